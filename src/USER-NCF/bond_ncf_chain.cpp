@@ -121,8 +121,13 @@ void BondNCFChain::coeff(int narg, char **arg)
   int iarg = 1;
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    if (key != "ea" && key != "modulus" && key != "diameter" && key != "shrink" &&
+        key != "compression")
+      error->all(FLERR, "bond_coeff ncf/chain: unknown keyword '{}'", key);
     if (iarg + 1 >= narg)
       error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' needs a value", key);
+    if (!utils::is_double(arg[iarg + 1]))
+      error->all(FLERR, "bond_coeff ncf/chain: value '{}' of '{}' is not a number", arg[iarg + 1], key);
     const double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     if (key == "ea") {
       if (!(v > 0.0)) error->all(FLERR, "bond_coeff ncf/chain: ea must be > 0, got {}", arg[iarg + 1]);
@@ -144,8 +149,6 @@ void BondNCFChain::coeff(int narg, char **arg)
         error->all(FLERR, "bond_coeff ncf/chain: compression must be in [0, 1], got {}",
                    arg[iarg + 1]);
       compression_in = v;
-    } else {
-      error->all(FLERR, "bond_coeff ncf/chain: unknown keyword '{}'", key);
     }
     iarg += 2;
   }

@@ -12,6 +12,7 @@
 #include "variable.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -37,6 +38,12 @@ std::string scratch_dir(const std::string &name)
 
 Lammps::Lammps(MPI_Comm comm, const std::string &log)
 {
+  // the plugin is auto-loaded from LAMMPS_PLUGIN_PATH (ctest sets it); running a test binary by
+  // hand works too
+  if (!getenv("LAMMPS_PLUGIN_PATH")) {
+    const std::string dir = std::filesystem::path(NCF_PLUGIN_FILE).parent_path().string();
+    setenv("LAMMPS_PLUGIN_PATH", dir.c_str(), 1);
+  }
   std::vector<std::string> args = {"ncftest", "-log", log, "-echo", "none", "-screen", "none",
                                    "-nocite"};
   std::vector<char *> argv;

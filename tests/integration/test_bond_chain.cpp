@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 using namespace ncftest;
 using ::testing::HasSubstr;
@@ -117,3 +118,342 @@ TEST(BondChain, FiniteDifferenceForce)
       EXPECT_NEAR(f[3 * (i - 1) + d], fd, 1e-5 * std::fabs(fd) + 1e-6) << "atom " << i << " dim " << d;
     }
 }
+
+TEST(BondChain, AxialWaveSpeedIsSqrtEOverRho)
+{
+  // a long chain with lumped masses; node 1 is driven at constant speed v0: the front (half
+  // of v0) travels at c = sqrt(E/rho) in the continuum limit
+  const double E = 120e9, rho = 905.0, d = 69e-6, a = 2e-4;
+  const double A = M_PI * 0.25 * d * d, m = rho * A * a;
+  const int n = 600;
+  const double c = std::sqrt(E / rho), dtc = a / c;
+  auto dir = scratch_dir("bond_wave");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_chain_data(dir, n, a, a, m) + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
+  l.cmds(R"(
+group driven id 1
+group free subtract all driven
+fix move driven move linear 1.0 0 0
+fix nve free nve
+)");
+  l.cmd(fmt::format("timestep {}", 0.5 * dtc));
+  // the front after t covers c t; take t so that it stays well inside the chain
+  const int steps = 800;    // front at ~400 elements
+  l.cmd(fmt::format("run {}", steps));
+  auto v = l.velocities();
+  // locate the front: first node (from the far end) whose speed exceeds v0/2
+  int front = -1;
+  for (int i = n - 1; i >= 0; i--)
+    if (v[3 * i] > 0.5) {
+      front = i;
+      break;
+    }
+  ASSERT_GT(front, 0);
+  const double t = steps * 0.5 * dtc;
+  const double measured = front * a / t;
+  EXPECT_NEAR(measured / c, 1.0, 0.02) << "front at node " << front << ", c = " << c;
+  std::printf("[measured] wave speed %.6g m/s, sqrt(E/rho) %.6g m/s, ratio %.5f\n", measured, c, measured / c);
+}
+
+TEST(BondChain, UndampedVibrationConservesEnergy)
+{
+  // free chain, first axial mode excited; velocity Verlet at half the critical time step
+  const double E = 120e9, rho = 905.0, d = 69e-6, a = 2e-4;
+  const double A = M_PI * 0.25 * d * d;
+  const int n = 50;
+  auto dir = scratch_dir("bond_energy");
+  // end nodes carry half the mass of interior nodes (lumped masses): per-atom masses
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_chain_data(dir, n, a, a, rho * A * a) + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
+  const double L = (n - 1) * a;
+  for (int i = 0; i < n; i++)
+    l.cmd(fmt::format("set atom {} x {:.17g} y {:.17g}", i + 1, i * a + 1e-3 * a * std::cos(M_PI * i * a / L),
+                      1e-4 * a * std::sin(2 * M_PI * i / (n - 1))));
+  l.cmds(R"(
+fix nve all nve
+variable etot equal pe+ke
+thermo_style custom step pe ke v_etot
+)");
+  const double dtc = a / std::sqrt(E / rho);
+  l.cmd(fmt::format("timestep {}", 0.5 * dtc));
+  l.cmd("fix log all print 10 \"${etot}\" file " + dir + "/etot.txt screen no");
+  l.cmd("run 10000");
+  std::ifstream in(dir + "/etot.txt");
+  std::string line;
+  std::vector<double> e;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') e.push_back(std::stod(line));
+  ASSERT_GE(e.size(), 1000u);
+  // drift: mean over the first and the last tenth of the run (the Verlet energy oscillates
+  // around a conserved shadow value; a drift moves the mean)
+  const std::size_t w = e.size() / 10;
+  double first = 0, last = 0;
+  for (std::size_t i = 0; i < w; i++) {
+    first += e[i] / w;
+    last += e[e.size() - w + i] / w;
+  }
+  EXPECT_GT(first, 0.0);
+  EXPECT_LT(std::fabs(last - first) / first, 1e-6) << "first " << first << " last " << last;
+  std::printf("[measured] relative energy drift over 1e4 steps at dt_c/2: %.3g\n", std::fabs(last - first) / first);
+}
+
+namespace {
+std::map<std::pair<long, long>, double> random_chain_setup(Lammps &l, const std::string &dir, int seed)
+{
+  // chain with irregular reference lengths (no two alike) to see any rounding
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.9, 1.1);
+  const int n = 12;
+  const std::string path = dir + "/irregular.data";
+  FILE *fp = fopen(path.c_str(), "w");
+  fprintf(fp, "irregular\n\n%d atoms\n2 atom types\n%d bonds\n2 bond types\n\n", n, n - 1);
+  fprintf(fp, "0 4e-3 xlo xhi\n-1e-3 1e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\nMasses\n\n1 1e-9\n2 2e-9\n\nAtoms # bond\n\n");
+  double x = 1e-4;
+  std::vector<double> l0(n);
+  for (int i = 0; i < n; i++) {
+    fprintf(fp, "%d %d %d %.17g %.17g 0\n", i + 1, i / 6 + 1, 1 + i % 2, x, 1e-5 * u(rng));
+    l0[i] = 2e-4 * u(rng) / 3.0;    // irrational-looking lengths
+    x += 2.5e-4;
+  }
+  fprintf(fp, "\nBonds\n\n");
+  for (int i = 1; i < n; i++) fprintf(fp, "%d %d %d %d\n", i, 1 + i % 2, i, i + 1);
+  fprintf(fp, "\nNCF_CHAIN_L0\n\n");
+  for (int i = 1; i <= n; i++) fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0[i - 1] : 0.0);
+  fclose(fp);
+  l.cmds(SETUP);
+  l.cmd("read_data " + path + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("bond_coeff 1 ea 448.7 shrink 0.05");
+  l.cmd("bond_coeff 2 ea 1.1e1 compression 0.25");
+  std::map<std::pair<long, long>, double> expect;
+  for (int i = 1; i < n; i++) expect[{i, i + 1}] = l0[i - 1];
+  return expect;
+}
+}    // namespace
+
+TEST(BondChain, ReferenceLengthsSurviveRestartBitForBit)
+{
+  auto dir = scratch_dir("bond_restart");
+  std::map<std::pair<long, long>, double> expect;
+  {
+    Lammps l;
+    expect = random_chain_setup(l, dir, 3);
+    EXPECT_EQ(l.reference_lengths(), expect);
+    l.cmds("fix nve all nve\ntimestep 1e-9\nrun 10");
+    l.cmd("write_restart " + dir + "/chain.restart");
+  }
+  Lammps r;
+  r.cmd("read_restart " + dir + "/chain.restart");
+  r.cmd("run 0");
+  auto got = r.reference_lengths();
+  ASSERT_EQ(got.size(), expect.size());
+  for (auto &kv : expect) EXPECT_EQ(got.at(kv.first), kv.second) << kv.first.first << "-" << kv.first.second;
+  // coefficients come back too
+  auto *bond = r.lmp->force->bond;
+  int dim;
+  EXPECT_EQ(static_cast<double *>(bond->extract("shrink", dim))[1], 0.05);
+  EXPECT_EQ(static_cast<double *>(bond->extract("compression", dim))[2], 0.25);
+}
+
+TEST(BondChain, RestartContinuesTheSameTrajectory)
+{
+  auto dir = scratch_dir("bond_restart_run");
+  std::vector<double> straight;
+  {
+    Lammps l;
+    random_chain_setup(l, dir, 5);
+    l.cmds("velocity all create 1e-10 4 loop geom\nfix nve all nve\ntimestep 2e-9\nrun 200");
+    l.cmd("write_restart " + dir + "/half.restart");
+    l.cmd("run 200");
+    straight = l.positions();
+  }
+  Lammps r;
+  r.cmd("read_restart " + dir + "/half.restart");
+  r.cmds("fix nve all nve\ntimestep 2e-9\nrun 200");
+  EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
+}
+
+TEST(BondChain, ReferenceLengthsSurviveWriteDataReadData)
+{
+  auto dir = scratch_dir("bond_data");
+  std::map<std::pair<long, long>, double> expect;
+  {
+    Lammps l;
+    expect = random_chain_setup(l, dir, 11);
+    l.cmd("run 0");
+    l.cmd("write_data " + dir + "/out.data");
+  }
+  Lammps r;
+  r.cmds(SETUP);
+  r.cmd("read_data " + dir + "/out.data fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  EXPECT_EQ(r.reference_lengths(), expect);
+  r.cmd("run 0");
+  int dim;
+  auto *bond = r.lmp->force->bond;
+  EXPECT_EQ(static_cast<double *>(bond->extract("ea", dim))[1], 448.7);
+  EXPECT_EQ(static_cast<double *>(bond->extract("shrink", dim))[1], 0.05);
+  EXPECT_EQ(static_cast<double *>(bond->extract("ea", dim))[2], 1.1e1);
+  // the second round trip gives the same file
+  r.cmd("write_data " + dir + "/out2.data");
+  std::ifstream a(dir + "/out.data"), b(dir + "/out2.data");
+  std::string la, lb;
+  std::getline(a, la);    // the first line carries the time stamp
+  std::getline(b, lb);
+  std::stringstream sa, sb;
+  sa << a.rdbuf();
+  sb << b.rdbuf();
+  EXPECT_EQ(sa.str(), sb.str());
+}
+
+TEST(BondChain, AppendedDataKeepsItsReferenceLengths)
+{
+  // read_data ... add append shifts the tags of the second file: relative tags keep L0 attached
+  auto dir = scratch_dir("bond_append");
+  auto data = write_chain_data(dir, 5, 2e-4, 1.9e-4, 1e-9, true, 2e-3);
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + data + " extra/bond/per/atom 2 extra/special/per/atom 4 fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("read_data " + data + " add append shift 0 5e-4 0 fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("bond_coeff 1 ea 1.0");
+  auto got = l.reference_lengths();
+  ASSERT_EQ(got.size(), 8u);
+  for (auto &kv : got) EXPECT_EQ(kv.second, 1.9e-4);
+  EXPECT_EQ(got.count({6, 7}), 1u);
+  EXPECT_EQ(got.count({5, 6}), 0u);
+}
+
+TEST(BondChain, MissingReferenceLengthsAreCapturedFromTheGeometry)
+{
+  auto dir = scratch_dir("bond_capture");
+  auto data = write_chain_data(dir, 6, 2.3e-4, 0.0, 1e-9, false);
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + data);
+  l.cmd("bond_coeff 1 ea 10.0");
+  l.cmd("run 0");
+  auto got = l.reference_lengths();
+  ASSERT_EQ(got.size(), 5u);
+  for (auto &kv : got) EXPECT_NEAR(kv.second, 2.3e-4, 1e-18);
+  EXPECT_NEAR(l.value("ebond"), 0.0, 1e-30);
+  // the largest L0 is reported for the communication cutoff check
+  EXPECT_NEAR(l.lmp->force->bond->equilibrium_distance(1), 2.3e-4, 1e-18);
+}
+
+TEST(BondChain, ShrinkByFixAdaptPullsTheChainTogether)
+{
+  // two nodes, damped: the distance settles at L0 (1 - s)
+  auto dir = scratch_dir("bond_shrink");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_chain_data(dir, 2, 2e-4, 2e-4, 1e-9) + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmds(R"(
+bond_coeff 1 ea 10.0
+variable s equal ramp(0.0,0.16)
+fix adapt all adapt 1 bond ncf/chain shrink 1 v_s
+fix nve all nve
+fix damp all viscous 2e-4
+timestep 1e-7
+run 2000
+variable s delete
+unfix adapt
+run 3000
+)");
+  auto x = l.positions();
+  EXPECT_NEAR(x[3] - x[0], 0.84 * 2e-4, 1e-9);
+}
+
+TEST(BondChain, TimestepAboveCriticalIsRefusedWithTheNumbers)
+{
+  auto dir = scratch_dir("bond_dt");
+  const double E = 120e9, rho = 905.0, d = 69e-6, a = 2e-4, A = M_PI * 0.25 * d * d;
+  const double dtc = a / std::sqrt(E / rho);
+  auto data = write_chain_data(dir, 10, a, a, rho * A * a);
+  {
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
+    l.cmd("fix nve all nve");
+    l.cmd(fmt::format("timestep {}", 1.05 * dtc));
+    auto msg = error_of([&] { l.cmd("run 10"); });
+    EXPECT_THAT(msg, HasSubstr("bond ncf/chain: timestep"));
+    EXPECT_THAT(msg, HasSubstr("is above the critical time step"));
+    EXPECT_THAT(msg, HasSubstr(fmt::format("{:.6g}", dtc)));
+    // just below the critical step the chain stays bounded and finite
+    l.cmd(fmt::format("timestep {}", 0.98 * dtc));
+    l.cmd("velocity all create 1e-6 1 loop geom");
+    l.cmd("run 5000");
+    for (double xi : l.positions()) ASSERT_TRUE(std::isfinite(xi));
+    EXPECT_LT(l.value("ke"), 1e3);    // bounded
+  }
+  {
+    // with dtcheck warn the user takes responsibility: it runs (and blows up, without crashing)
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("bond_style ncf/chain dtcheck warn");
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
+    l.cmd("fix nve all nve");
+    l.cmd(fmt::format("timestep {}", 1.05 * dtc));
+    EXPECT_EQ(error_of([&] { l.cmd("run 1"); }), "");
+  }
+}
+
+TEST(BondChain, CompressionRatioScalesTheCompressiveForce)
+{
+  auto dir = scratch_dir("bond_compression");
+  auto data = write_chain_data(dir, 2, 1.8e-4, 2e-4, 1e-9);
+  for (double c : {1.0, 0.3, 0.0}) {
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    l.cmd(fmt::format("bond_coeff 1 ea 100.0 compression {}", c));
+    l.cmd("run 0");
+    auto f = l.forces();
+    EXPECT_NEAR(f[0], -c * 100.0 * 0.1, 1e-12) << "c = " << c;    // pushed apart
+  }
+}
+
+struct BadLine {
+  const char *command;
+  const char *message;
+};
+
+class BondChainErrors : public ::testing::TestWithParam<BadLine> {};
+
+TEST_P(BondChainErrors, NameTheProblem)
+{
+  auto dir = scratch_dir("bond_errors");
+  auto data = write_chain_data(dir, 3, 2e-4, 2e-4, 1e-9);
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  auto msg = error_of([&] { l.cmd(GetParam().command); });
+  EXPECT_THAT(msg, HasSubstr(GetParam().message)) << "command: " << GetParam().command;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, BondChainErrors,
+    ::testing::Values(
+        BadLine{"bond_style ncf/chain dtcheck", "bond_style ncf/chain: keyword 'dtcheck' needs a value"},
+        BadLine{"bond_style ncf/chain dtcheck maybe", "bond_style ncf/chain: dtcheck 'maybe' is not one of error, warn, no"},
+        BadLine{"bond_style ncf/chain stiff 3", "bond_style ncf/chain: unknown keyword 'stiff'"},
+        BadLine{"bond_coeff 1", "bond_coeff ncf/chain: expected 'N ea EA' or 'N modulus E diameter d'"},
+        BadLine{"bond_coeff 1 ea", "bond_coeff ncf/chain: expected"},
+        BadLine{"bond_coeff 1 ea 10 shrink", "bond_coeff ncf/chain: keyword 'shrink' needs a value"},
+        BadLine{"bond_coeff 1 ea -10", "bond_coeff ncf/chain: ea must be > 0, got -10"},
+        BadLine{"bond_coeff 1 ea abc", "bond_coeff ncf/chain: value 'abc' of 'ea' is not a number"},
+        BadLine{"bond_coeff 1 ea 10 shrink 1.0", "bond_coeff ncf/chain: shrink must be in [0, 1), got 1.0"},
+        BadLine{"bond_coeff 1 ea 10 shrink -0.1", "bond_coeff ncf/chain: shrink must be in [0, 1), got -0.1"},
+        BadLine{"bond_coeff 1 ea 10 compression 2", "bond_coeff ncf/chain: compression must be in [0, 1], got 2"},
+        BadLine{"bond_coeff 1 ea 10 colour red", "bond_coeff ncf/chain: unknown keyword 'colour'"},
+        BadLine{"bond_coeff 1 modulus 1e9", "give 'ea' or both 'modulus' and 'diameter'"},
+        BadLine{"bond_coeff 1 modulus 1e9 shrink 0.1", "no axial stiffness for bond type(s) 1: give 'ea' or both 'modulus' and 'diameter'"},
+        BadLine{"bond_coeff 1 modulus 0 diameter 1e-5", "bond_coeff ncf/chain: modulus must be > 0, got 0"},
+        BadLine{"bond_coeff 1 modulus 1e9 diameter -1", "bond_coeff ncf/chain: diameter must be > 0, got -1"},
+        BadLine{"bond_coeff 1 ea 5 modulus 1e9 diameter 1e-5", "give either 'ea' or 'modulus' with 'diameter', not both"},
+        BadLine{"bond_coeff 2 ea 5", "Numeric index 2 is out of bounds (1-1)"},
+        BadLine{"run 0", "Bond coeffs are not set"}));

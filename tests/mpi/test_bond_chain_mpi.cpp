@@ -1,0 +1,149 @@
+// bond_style ncf/chain on 1, 2 and 4 MPI ranks: the same trajectory to round-off.
+// Run by ctest under mpirun -np 4; each scene runs on sub-communicators of 1, 2 and 4 ranks.
+
+#include "ncf_lammps_test.h"
+
+#include "comm.h"
+#include "lammps.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+using namespace ncftest;
+
+namespace {
+
+// nchain ring chains along x, closed across the periodic boundary (the last node bonds to the
+// first through the box face), wiggled in y and z; two bond types; with or without stored L0
+std::string write_network(const std::string &dir, bool with_l0)
+{
+  const int nchain = 24, nper = 40;
+  const double a = 2e-4, lx = nper * a, ly = 2.4e-3, lz = 1.2e-3;
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::string path = dir + (with_l0 ? "/network_l0.data" : "/network.data");
+  FILE *fp = fopen(path.c_str(), "w");
+  const int n = nchain * nper;
+  fprintf(fp, "ring chains\n\n%d atoms\n2 atom types\n%d bonds\n2 bond types\n\n", n, n);
+  fprintf(fp, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n0 %.17g zlo zhi\n\n", lx, ly, lz);
+  fprintf(fp, "Masses\n\n1 3.4e-10\n2 1.2e-10\n\nAtoms # bond\n\n");
+  for (int c = 0; c < nchain; c++) {
+    const double y0 = (c % 6 + 0.5) * ly / 6, z0 = (c / 6 + 0.5) * lz / 4;
+    for (int k = 0; k < nper; k++) {
+      const int id = c * nper + k + 1;
+      fprintf(fp, "%d %d %d %.17g %.17g %.17g\n", id, c + 1, 1 + c % 2, (k + 0.3 * u(rng)) * a,
+              y0 + 2e-5 * u(rng), z0 + 2e-5 * u(rng));
+    }
+  }
+  fprintf(fp, "\nBonds\n\n");
+  int b = 0;
+  for (int c = 0; c < nchain; c++)
+    for (int k = 0; k < nper; k++) {
+      const int i = c * nper + k + 1, j = c * nper + (k + 1) % nper + 1;
+      fprintf(fp, "%d %d %d %d\n", ++b, 1 + c % 2, i, j);
+    }
+  if (with_l0) {
+    fprintf(fp, "\nNCF_CHAIN_L0\n\n");
+    for (int c = 0; c < nchain; c++)
+      for (int k = 0; k < nper; k++) {
+        const int id = c * nper + k + 1;
+        // node k bonds to k+1; the first node also to the last (ring)
+        const double l1 = a * (1.0 + 0.05 * u(rng));
+        if (k == 0)
+          fprintf(fp, "%d 1 %d %.17g %.17g\n", id, nper - 1, l1, a * (1.0 + 0.05 * u(rng)));
+        else if (k < nper - 1)
+          fprintf(fp, "%d 1 0 %.17g 0\n", id, l1);
+        else
+          fprintf(fp, "%d 0 0 0 0\n", id);
+      }
+  }
+  fclose(fp);
+  return path;
+}
+
+struct Result {
+  int nprocs = 0;
+  std::vector<double> x0, x;
+  std::map<std::pair<long, long>, double> l0;
+};
+
+Result run_on(int nranks, const std::string &data)
+{
+  Result res;
+  MPI_Comm comm;
+  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < nranks ? 0 : MPI_UNDEFINED, world_rank(), &comm);
+  if (comm != MPI_COMM_NULL) {
+    {
+      Lammps l(comm);
+      l.cmds(R"(
+units si
+atom_style bond
+newton on
+boundary p p p
+comm_modify cutoff 6e-4
+bond_style ncf/chain
+)");
+      l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+      res.nprocs = l.lmp->comm->nprocs;
+      res.x0 = l.positions();
+      l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+bond_coeff 2 modulus 1.81e9 diameter 88e-6 shrink 0.02
+velocity all create 1e-3 7 loop geom
+fix nve all nve
+timestep 5e-9
+run 1000
+)");
+      res.x = l.positions();
+      res.l0 = l.reference_lengths();
+    }
+    MPI_Comm_free(&comm);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return res;
+}
+
+void compare_ranks(bool with_l0)
+{
+  ASSERT_GE(world_size(), 4) << "run this test with mpirun -np 4";
+  auto dir = scratch_dir(with_l0 ? "mpi_bond_l0" : "mpi_bond_capture");
+  std::string data;
+  if (world_rank() == 0) data = write_network(dir, with_l0);
+  // every rank needs the path
+  char buf[4096] = {0};
+  if (world_rank() == 0) snprintf(buf, sizeof(buf), "%s", data.c_str());
+  MPI_Bcast(buf, sizeof(buf), MPI_CHAR, 0, MPI_COMM_WORLD);
+  data = buf;
+
+  Result r1 = run_on(1, data), r2 = run_on(2, data), r4 = run_on(4, data);
+  if (world_rank() != 0) return;
+  ASSERT_FALSE(r1.x.empty());
+  EXPECT_EQ(r1.nprocs, 1);
+  EXPECT_EQ(r2.nprocs, 2);
+  EXPECT_EQ(r4.nprocs, 4);
+  // the trajectory really moved, so that equality is not trivial
+  EXPECT_GT(max_abs_diff(r1.x, r1.x0), 1e-6);
+  const double lbox = 8e-3;    // largest box length
+  EXPECT_LE(max_abs_diff(r1.x, r2.x), 1e-12 * lbox);
+  EXPECT_LE(max_abs_diff(r1.x, r4.x), 1e-12 * lbox);
+  std::printf("[measured] max |x1 - x2| = %.3g m, max |x1 - x4| = %.3g m (box 8e-3 m)\n",
+              max_abs_diff(r1.x, r2.x), max_abs_diff(r1.x, r4.x));
+  EXPECT_EQ(r1.l0.size(), 24u * 40u);
+  EXPECT_EQ(r1.l0, r2.l0);
+  EXPECT_EQ(r1.l0, r4.l0);
+}
+
+}    // namespace
+
+TEST(BondChainMPI, SameTrajectoryOn124RanksWithStoredL0)
+{
+  compare_ranks(true);
+}
+
+TEST(BondChainMPI, SameTrajectoryOn124RanksWithCapturedL0)
+{
+  compare_ranks(false);
+}
