@@ -4,7 +4,10 @@
    (cmake/NCFStyles.cmake reads the XxxStyle() macros of the headers).
 ------------------------------------------------------------------------- */
 
+#include "comm.h"
+#include "lammps.h"
 #include "lammpsplugin.h"
+#include "utils.h"
 #include "version.h"
 
 #include "ncf_styles.h"
@@ -61,4 +64,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 
   NCF_FOR_EACH_STYLE(NCF_REGISTER)
 #undef NCF_REGISTER
+
+  // LAMMPS prints the info string only for some ways of loading; the version and revision belong
+  // in every log, so that a result can be traced to the code that made it
+  auto *instance = static_cast<LAMMPS *>(lmp);
+  if (instance->comm->me == 0) utils::logmesg(instance, "{}\n", INFO);
 }

@@ -457,3 +457,22 @@ INSTANTIATE_TEST_SUITE_P(
         BadLine{"bond_coeff 1 ea 5 modulus 1e9 diameter 1e-5", "give either 'ea' or 'modulus' with 'diameter', not both"},
         BadLine{"bond_coeff 2 ea 5", "Numeric index 2 is out of bounds (1-1)"},
         BadLine{"run 0", "Bond coeffs are not set"}));
+
+TEST(BondChain, AutoLoadedPluginSurvivesClear)
+{
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("clear");
+  // after clear, LAMMPS_PLUGIN_PATH auto-loads the plugin again: the style is still known
+  l.cmds("units si\natom_style bond");
+  EXPECT_EQ(error_of([&] { l.cmd("bond_style ncf/chain"); }), "");
+}
+
+TEST(BondChain, UnknownStyleWithoutPluginIsAnError)
+{
+  // the harness really depends on the plugin: unloading it makes the style unknown
+  Lammps l;
+  l.cmd("plugin unload bond ncf/chain");
+  l.cmds("units si\natom_style bond");
+  EXPECT_THAT(error_of([&] { l.cmd("bond_style ncf/chain"); }), HasSubstr("Unrecognized bond style 'ncf/chain'"));
+}
