@@ -54,10 +54,12 @@ fi
 fetch_debian_source() {
   local dest=$1 work uri
   work=$(mktemp -d)
+  chmod 755 "$work"    # apt downloads as user _apt
   # the mirror this machine already uses for bookworm, asked for trixie's source package
-  uri=$( (grep -hsE '^URIs:' /etc/apt/sources.list.d/*.sources | awk '{print $2}'
-    grep -hsE '^deb ' /etc/apt/sources.list /etc/apt/sources.list.d/*.list | awk '{print $2}') |
-    grep -E '/debian/?$' | head -n 1)
+  uri=$( { grep -hsE '^URIs:' /etc/apt/sources.list.d/*.sources || true
+    grep -hsE '^deb ' /etc/apt/sources.list /etc/apt/sources.list.d/*.list || true; } |
+    awk '{for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' |
+    grep -E '/debian/?$' | head -n 1 || true)
   [ -n "$uri" ] || die "no Debian mirror found in /etc/apt/sources.list*; set NCF_LAMMPS_SRC to a LAMMPS source tree"
   mkdir -p "$work/lists/partial" "$work/dl"
   echo "deb-src [trusted=yes] $uri trixie main" >"$work/src.list"
@@ -90,7 +92,7 @@ else
     fi
     say "unpacking $LAMMPS_TARBALL (sha256 verified)"
     rm -rf "$lmp_top"
-    tar -C "$cache/src" -xf "$tarball"
+    tar --no-same-owner -C "$cache/src" -xf "$tarball"
     touch "$lmp_top/.ncf-unpacked"
   fi
   origin="debian:$LAMMPS_DEB_VERSION:$LAMMPS_SHA256"

@@ -36,8 +36,8 @@ static constexpr int NSLOT = 2;
 /* ---------------------------------------------------------------------- */
 
 BondNCFChain::BondNCFChain(LAMMPS *_lmp) :
-    Bond(_lmp), dtcheck(DT_ERROR), capture_pending(true), dt_critical(0.0),
-    comm_mode(COMM_SLOTS), idx_dtag(-1), idx_l0(-1)
+    Bond(_lmp), dtcheck(DT_ERROR), capture_pending(true), dt_critical(0.0), comm_mode(COMM_SLOTS),
+    idx_dtag(-1), idx_l0(-1)
 {
   writedata = 1;
   reinitflag = 1;
@@ -83,7 +83,8 @@ void BondNCFChain::settings(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "dtcheck") {
-      if (iarg + 1 >= narg) error->all(FLERR, "bond_style ncf/chain: keyword 'dtcheck' needs a value");
+      if (iarg + 1 >= narg)
+        error->all(FLERR, "bond_style ncf/chain: keyword 'dtcheck' needs a value");
       const std::string val = arg[iarg + 1];
       if (val == "error")
         dtcheck = DT_ERROR;
@@ -127,10 +128,12 @@ void BondNCFChain::coeff(int narg, char **arg)
     if (iarg + 1 >= narg)
       error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' needs a value", key);
     if (!utils::is_double(arg[iarg + 1]))
-      error->all(FLERR, "bond_coeff ncf/chain: value '{}' of '{}' is not a number", arg[iarg + 1], key);
+      error->all(FLERR, "bond_coeff ncf/chain: value '{}' of '{}' is not a number", arg[iarg + 1],
+                 key);
     const double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     if (key == "ea") {
-      if (!(v > 0.0)) error->all(FLERR, "bond_coeff ncf/chain: ea must be > 0, got {}", arg[iarg + 1]);
+      if (!(v > 0.0))
+        error->all(FLERR, "bond_coeff ncf/chain: ea must be > 0, got {}", arg[iarg + 1]);
       ea_in = v;
     } else if (key == "modulus") {
       if (!(v > 0.0))
@@ -154,7 +157,8 @@ void BondNCFChain::coeff(int narg, char **arg)
   }
 
   if (ea_in > 0.0 && (modulus > 0.0 || diameter > 0.0))
-    error->all(FLERR, "bond_coeff ncf/chain: give either 'ea' or 'modulus' with 'diameter', not both");
+    error->all(FLERR,
+               "bond_coeff ncf/chain: give either 'ea' or 'modulus' with 'diameter', not both");
   if (ea_in < 0.0) {
     if (modulus < 0.0 || diameter < 0.0)
       error->all(FLERR,
@@ -187,7 +191,8 @@ void BondNCFChain::find_store()
   int flag, cols;
   idx_dtag = atom->find_custom("ncf_dtag", flag, cols);
   if (idx_dtag < 0 || flag != 0 || cols != NSLOT)
-    error->all(FLERR, "bond ncf/chain: per-atom array i2_ncf_dtag of fix {} is missing or malformed",
+    error->all(FLERR,
+               "bond ncf/chain: per-atom array i2_ncf_dtag of fix {} is missing or malformed",
                STORE_ID);
   idx_l0 = atom->find_custom("ncf_l0", flag, cols);
   if (idx_l0 < 0 || flag != 1 || cols != NSLOT)
@@ -312,8 +317,9 @@ void BondNCFChain::capture_missing()
   int captured = count_owned_slots() - before, total = 0;
   MPI_Allreduce(&captured, &total, 1, MPI_INT, MPI_SUM, world);
   if (comm->me == 0)
-    utils::logmesg(lmp, "bond ncf/chain: reference length L0 taken from the current geometry for {} bond(s)\n",
-                   total);
+    utils::logmesg(
+        lmp, "bond ncf/chain: reference length L0 taken from the current geometry for {} bond(s)\n",
+        total);
   update_maxl0();
 }
 
@@ -353,7 +359,8 @@ void BondNCFChain::estimate_critical_timestep()
 
   const double dt = update->dt;
   if (comm->me == 0)
-    utils::logmesg(lmp, "bond ncf/chain: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
+    utils::logmesg(lmp,
+                   "bond ncf/chain: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
                    dt_critical, dt, dt / dt_critical);
   if (dt > dt_critical) {
     const std::string msg = fmt::format(
@@ -464,7 +471,8 @@ void BondNCFChain::read_restart_settings(FILE *fp)
 void BondNCFChain::write_data(FILE *fp)
 {
   for (int i = 1; i <= atom->nbondtypes; i++)
-    NCF_COMPAT::print(fp, "{} ea {} shrink {} compression {}\n", i, ea[i], shrink[i], compression[i]);
+    NCF_COMPAT::print(fp, "{} ea {} shrink {} compression {}\n", i, ea[i], shrink[i],
+                      compression[i]);
 }
 
 /* ---------------------------------------------------------------------- */

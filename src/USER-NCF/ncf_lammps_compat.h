@@ -21,7 +21,8 @@
 namespace NCF_COMPAT {
 
 // Formatted write to a C stream (restart/data files, logs), identical in all supported versions.
-template <typename... Args> inline void print(FILE *fp, const std::string &format, const Args &...args)
+template <typename... Args>
+inline void print(FILE *fp, const std::string &format, const Args &...args)
 {
   const std::string text = fmt::vformat(format, fmt::make_format_args(args...));
   fputs(text.c_str(), fp);

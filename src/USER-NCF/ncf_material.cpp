@@ -137,13 +137,12 @@ ChainProperties filament_chain(const Material &m, double chain_diameter, double 
   if (m.kind != MaterialKind::FILAMENT)
     throw InputError("material '" + m.name + "' is a yarn, not a filament material");
   if (!(chain_diameter > 0.0)) throw InputError("chain diameter must be > 0");
-  if (!(packing > 0.0 && packing <= 1.0))
-    throw InputError("packing coefficient must be in (0, 1]");
+  if (!(packing > 0.0 && packing <= 1.0)) throw InputError("packing coefficient must be in (0, 1]");
   ChainProperties c;
   c.diameter = chain_diameter;
   c.packing = packing;
-  c.filaments = packing * chain_diameter * chain_diameter /
-      (m.filament_diameter * m.filament_diameter);
+  c.filaments =
+      packing * chain_diameter * chain_diameter / (m.filament_diameter * m.filament_diameter);
   c.modulus = packing * m.modulus;
   c.density = packing * m.density;
   finish(c);
@@ -154,8 +153,7 @@ ChainProperties yarn_chain(const Material &m, double packing)
 {
   if (m.kind != MaterialKind::YARN)
     throw InputError("material '" + m.name + "' is a filament, not a yarn material");
-  if (!(packing > 0.0 && packing <= 1.0))
-    throw InputError("packing coefficient must be in (0, 1]");
+  if (!(packing > 0.0 && packing <= 1.0)) throw InputError("packing coefficient must be in (0, 1]");
   ChainProperties c;
   c.packing = packing;
   const double area = m.linear_density / (m.density * packing);

@@ -31,8 +31,9 @@ struct Material {
   double modulus = 0.0;              // tensile modulus of the fibre material [Pa]
   double density = 0.0;              // density of the fibre material [kg/m^3]
   double filament_diameter = 0.0;    // diameter of one filament [m] (filaments)
-  double linear_density = 0.0;       // linear density of the whole yarn [kg/m] (yarns; 1 tex = 1e-6 kg/m)
-  int line = 0;                      // line of the file where it is defined
+  double linear_density =
+      0.0;         // linear density of the whole yarn [kg/m] (yarns; 1 tex = 1e-6 kg/m)
+  int line = 0;    // line of the file where it is defined
 };
 
 // Properties of one digital chain made of this material, SI units.

@@ -31,11 +31,11 @@ template <class T> void *create_with_args(void *lmp, int narg, char **arg)
 const char INFO[] = "USER-NCF " NCF_VERSION " (git " NCF_GIT_REVISION
                     "): digital-chain virtual manufacturing of non-crimp fabrics";
 
-[[maybe_unused]] void set_creator(lammpsplugin_t &p, void *(*f)(void *))
+[[maybe_unused]] void set_creator(lammpsplugin_t &p, void *(*f)(void *) )
 {
   p.creator.v1 = (lammpsplugin_factory1 *) f;
 }
-[[maybe_unused]] void set_creator(lammpsplugin_t &p, void *(*f)(void *, int, char **))
+[[maybe_unused]] void set_creator(lammpsplugin_t &p, void *(*f)(void *, int, char **) )
 {
   p.creator.v2 = (lammpsplugin_factory2 *) f;
 }
@@ -56,9 +56,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.author = "USER-NCF developers";
   plugin.handle = handle;
 
-#define NCF_REGISTER(KIND, NAME, CLASS)         \
-  plugin.style = #KIND;                         \
-  plugin.name = NAME;                           \
+#define NCF_REGISTER(KIND, NAME, CLASS)           \
+  plugin.style = #KIND;                           \
+  plugin.name = NAME;                             \
   set_creator(plugin, NCF_CREATOR_##KIND(CLASS)); \
   (*register_plugin)(&plugin, lmp);
 
