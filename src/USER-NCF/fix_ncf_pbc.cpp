@@ -1,0 +1,518 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   fix ncf/pbc: averaged periodic boundary conditions (see fix_ncf_pbc.h, doc/fix_ncf_pbc.md)
+
+   For every group g of end nodes (cells of the boundary mesh, merged until each has nodes on
+   both faces of its pair) the linear constraint
+
+       C_g = sum_i w_i X_i - F D_g = 0,   w_i = +1/n_upper or -1/n_lower,  D_g = sum_i w_i X_i^ref
+
+   holds, with X the unwrapped positions and F = h h_ref^-1 the in-plane deformation of the
+   periodic box (identity in z). It is Eq. 2 of the paper applied to both reference points with
+   ordinary periodicity between them. It is made exact after every step by constraint forces
+   F_i = w_i lambda_g computed from the predicted (unconstrained) next positions, like SHAKE but
+   in closed form because the constraints are linear and the groups disjoint: one MPI_Allreduce
+   per step for all groups. Their weights sum to zero, so momentum is conserved.
+------------------------------------------------------------------------- */
+
+#include "fix_ncf_pbc.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+#include "memory.h"
+#include "modify.h"
+#include "update.h"
+
+#include "ncf_material.h"
+#include "ncf_pbc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+// face codes of the per-atom property (doc/ARCHITECTURE.md): 1 xlo, 2 xhi, 3 ylo, 4 yhi
+constexpr int FACE_XLO = 1, FACE_XHI = 2, FACE_YLO = 3, FACE_YHI = 4;
+constexpr int NVAL = 7;    // per group: predicted residual (3), current sum (3), sum w^2/m
+
+// in-plane deformation gradient F = h h_ref^-1 of the periodic box (x, y), identity in z
+void deformation(const double *h, const double *href, double F[2][2])
+{
+  // h2 = [[xprd, xy], [0, yprd]]; inverse of the reference [[a, b], [0, d]] is [[1/a, -b/(a d)], [0, 1/d]]
+  const double a = href[0], b = href[5], d = href[1];
+  const double i00 = 1.0 / a, i01 = -b / (a * d), i11 = 1.0 / d;
+  F[0][0] = h[0] * i00;
+  F[0][1] = h[0] * i01 + h[5] * i11;
+  F[1][0] = 0.0;
+  F[1][1] = h[1] * i11;
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), ngroups(0), residual_max(0.0)
+{
+  scalar_flag = 1;
+  vector_flag = 1;
+  size_vector = 3;
+  global_freq = 1;
+  extscalar = 0;
+  extvector = 0;
+  restart_global = 1;
+  virial_global_flag = virial_peratom_flag = 1;
+  thermo_virial = 1;
+  dynamic_group_allow = 0;
+
+  pair_on[0] = pair_on[1] = 1;
+  for (auto &p : user_cells) p[0] = p[1] = 0;
+  for (auto &p : mesh_cells) p[0] = p[1] = 0;
+  nmerged[0] = nmerged[1] = 0;
+  endface_name = "ncf_end";
+  parse(narg, arg);
+
+  if (domain->triclinic && (domain->xy != 0.0 || domain->xz != 0.0 || domain->yz != 0.0))
+    error->all(FLERR,
+               "fix ncf/pbc: the box must be orthogonal when the fix is defined "
+               "(a tilt may develop later, e.g. by fix deform)");
+  for (int p = 0; p < 2; p++)
+    if (pair_on[p] && !domain->periodicity[p])
+      error->all(FLERR, "fix ncf/pbc: faces {} need a periodic box in {}", p ? "y" : "x",
+                 p ? "y" : "x");
+  capture_reference();
+}
+
+/* ----------------------------------------------------------------------
+   fix ID group ncf/pbc [faces x|y|xy] [endface NAME|auto] [xcells NU NV] [ycells NU NV]
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::parse(int narg, char **arg)
+{
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    auto need = [&](int n) {
+      if (iarg + n >= narg)
+        error->all(FLERR, "fix ncf/pbc: keyword '{}' needs {} value(s)", key, n);
+    };
+    if (key == "faces") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "x") {
+        pair_on[0] = 1;
+        pair_on[1] = 0;
+      } else if (v == "y") {
+        pair_on[0] = 0;
+        pair_on[1] = 1;
+      } else if (v == "xy") {
+        pair_on[0] = pair_on[1] = 1;
+      } else
+        error->all(FLERR, "fix ncf/pbc: faces '{}' is not one of x, y, xy", v);
+      iarg += 2;
+    } else if (key == "endface") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "auto")
+        endface_name.clear();
+      else if (utils::strmatch(v, "^i_"))
+        endface_name = v.substr(2);
+      else
+        error->all(FLERR, "fix ncf/pbc: endface '{}' must be 'auto' or a per-atom integer i_NAME",
+                   v);
+      iarg += 2;
+    } else if (key == "xcells" || key == "ycells") {
+      need(2);
+      const int p = key == "xcells" ? 0 : 1;
+      for (int k = 0; k < 2; k++) {
+        const int n = utils::inumeric(FLERR, arg[iarg + 1 + k], false, lmp);
+        if (n < 1) error->all(FLERR, "fix ncf/pbc: {} values must be >= 1, got {}", key, n);
+        user_cells[p][k] = n;
+      }
+      iarg += 3;
+    } else
+      error->all(FLERR, "fix ncf/pbc: unknown keyword '{}'", key);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   reference state: every end node of the group with its face, unwrapped position, cell group
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::capture_reference()
+{
+  const int nlocal = atom->nlocal;
+  int *mask = atom->mask;
+  int *face = nullptr;
+  if (!endface_name.empty()) {
+    int flag, cols;
+    const int idx = atom->find_custom(endface_name.c_str(), flag, cols);
+    if (idx < 0 || flag != 0 || cols != 0)
+      error->all(FLERR,
+                 "fix ncf/pbc: no per-atom integer i_{} with the end-node face codes (read the "
+                 "generator's NCF_NODE section, or use 'endface auto')",
+                 endface_name);
+    face = atom->ivector[idx];
+  }
+
+  // local end nodes: tag, face, unwrapped position
+  std::vector<double> mine;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double xu[3];
+    domain->unmap(atom->x[i], atom->image[i], xu);
+    int code = 0;
+    if (face) {
+      code = face[i];
+      if (code < 0 || code > 4)
+        error->one(FLERR, "fix ncf/pbc: atom {} has face code {} (expected 0 to 4)", atom->tag[i],
+                   code);
+    } else {
+      // auto: nearest of the constrained periodic faces
+      double best = 1e300;
+      for (int p = 0; p < 2; p++) {
+        if (!pair_on[p]) continue;
+        const double dlo = std::fabs(atom->x[i][p] - domain->boxlo[p]);
+        const double dhi = std::fabs(domain->boxhi[p] - atom->x[i][p]);
+        if (dlo < best) best = dlo, code = 2 * p + 1;
+        if (dhi < best) best = dhi, code = 2 * p + 2;
+      }
+    }
+    if (code == 0) continue;
+    const int p = (code - 1) / 2;
+    if (!pair_on[p]) continue;
+    mine.insert(mine.end(), {(double) atom->tag[i], (double) code, xu[0], xu[1], xu[2]});
+  }
+  int n = (int) mine.size(), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int q = 1; q < nprocs; q++) displs[q] = displs[q - 1] + counts[q - 1];
+  std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 world);
+
+  // sort by tag so that every rank builds the same list whatever the decomposition
+  const int nend = (int) all.size() / 5;
+  std::vector<int> order(nend);
+  for (int k = 0; k < nend; k++) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return all[5 * a] < all[5 * b];
+  });
+
+  for (int k = 0; k < 6; k++) href[k] = domain->h[k];
+  nodes.clear();
+  group_pair.clear();
+  ngroups = 0;
+  for (int p = 0; p < 2; p++) {
+    if (!pair_on[p]) continue;
+    std::vector<NCF::FaceNode> fn;
+    std::vector<int> which;
+    double vlo = 1e300, vhi = -1e300;
+    int nlow = 0, nup = 0;
+    for (int k : order) {
+      const int code = (int) all[5 * k + 1];
+      if ((code - 1) / 2 != p) continue;
+      NCF::FaceNode f;
+      f.side = (code % 2 == 1) ? -1 : 1;
+      // in-face coordinates: u along the other periodic direction, v = z
+      f.u = all[5 * k + 2 + (1 - p)] - domain->boxlo[1 - p];
+      f.v = all[5 * k + 4];
+      vlo = std::min(vlo, f.v);
+      vhi = std::max(vhi, f.v);
+      (f.side < 0 ? nlow : nup)++;
+      fn.push_back(f);
+      which.push_back(k);
+    }
+    if (fn.empty())
+      error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on the {} faces",
+                 group->names[igroup], p ? "y" : "x");
+    const double lu = domain->prd[1 - p];
+    NCF::FaceMesh mesh = NCF::auto_face_mesh(fn, lu);
+    if (user_cells[p][0]) {
+      mesh = NCF::FaceMesh();
+      mesh.lu = lu;
+      mesh.vlo = vlo;
+      mesh.vhi = vhi;
+      mesh.nu = user_cells[p][0];
+      mesh.nv = user_cells[p][1];
+    }
+    mesh_cells[p][0] = mesh.nu;
+    mesh_cells[p][1] = mesh.nv;
+    int ng = 0;
+    std::vector<int> grp;
+    try {
+      grp = NCF::face_groups(mesh, fn, ng);
+    } catch (NCF::InputError &e) {
+      error->all(FLERR, "fix ncf/pbc: {} faces: {}", p ? "y" : "x", e.what());
+    }
+    auto w = NCF::face_weights(fn, grp, ng);
+    int nonempty = 0;
+    {
+      std::vector<int> seen(mesh.nu * mesh.nv, 0);
+      for (auto &f : fn) seen[mesh.cell_of(f.u, f.v)] = 1;
+      for (int s : seen) nonempty += s;
+    }
+    nmerged[p] = nonempty - ng;
+    for (std::size_t m = 0; m < fn.size(); m++) {
+      const int k = which[m];
+      EndNode e;
+      e.tag = (tagint) all[5 * k];
+      e.pair = p;
+      e.group = ngroups + grp[m];
+      e.weight = w[m];
+      for (int d = 0; d < 3; d++) e.xref[d] = all[5 * k + 2 + d];
+      nodes.push_back(e);
+    }
+    for (int g = 0; g < ng; g++) group_pair.push_back(p);
+    ngroups += ng;
+    if (comm->me == 0)
+      utils::logmesg(lmp,
+                     "fix ncf/pbc: {} faces: {} lower + {} upper end nodes, mesh {} x {} cells, "
+                     "{} constraint groups ({} non-empty cells merged away)\n",
+                     p ? "y" : "x", nlow, nup, mesh.nu, mesh.nv, ng, nmerged[p]);
+  }
+  finish_groups();
+}
+
+/* ----------------------------------------------------------------------
+   per-group constants derived from the node list
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::finish_groups()
+{
+  sum_w2.assign(ngroups, 0.0);
+  dref.assign(3 * ngroups, 0.0);
+  for (auto &e : nodes) {
+    sum_w2[e.group] += e.weight * e.weight;
+    for (int d = 0; d < 3; d++) dref[3 * e.group + d] += e.weight * e.xref[d];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixNCFPBC::setmask()
+{
+  return POST_FORCE | MIN_POST_FORCE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNCFPBC::init()
+{
+  if (atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR, "fix ncf/pbc needs an atom map (atom_modify map array or hash)");
+  for (auto &e : nodes)
+    if (atom->map(e.tag) < 0 && comm->nprocs == 1)
+      error->all(FLERR, "fix ncf/pbc: end node {} no longer exists", e.tag);
+  check_fix_order();
+}
+
+/* ----------------------------------------------------------------------
+   the constraint forces must be the last change of the forces in a step
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::check_fix_order()
+{
+  bool after = false;
+  for (auto &f : modify->get_fix_list()) {
+    if (f == this) {
+      after = true;
+      continue;
+    }
+    if (after && (f->setmask() & POST_FORCE) && comm->me == 0)
+      error->warning(FLERR,
+                     "fix ncf/pbc: fix {} ({}) changes forces after fix ncf/pbc; define fix "
+                     "ncf/pbc last so that the averaged periodic constraint sees the final forces",
+                     f->id, f->style);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNCFPBC::setup(int vflag)
+{
+  post_force(vflag);
+}
+
+void FixNCFPBC::min_setup(int vflag)
+{
+  min_post_force(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   dynamics: constraint forces that make every C_g vanish at the next step
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::post_force(int vflag)
+{
+  v_init(vflag);
+  const int nlocal = atom->nlocal;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  imageint *image = atom->image;
+  double *rmass = atom->rmass, *mass = atom->mass;
+  int *type = atom->type;
+  const double dt = update->dt;
+  const double dt2 = dt * dt * force->ftm2v;
+
+  work.assign((std::size_t) NVAL * ngroups, 0.0);
+  for (auto &e : nodes) {
+    const int i = atom->map(e.tag);
+    if (i < 0 || i >= nlocal) continue;
+    const double m = rmass ? rmass[i] : mass[type[i]];
+    double xu[3];
+    domain->unmap(x[i], image[i], xu);
+    double *s = &work[(std::size_t) NVAL * e.group];
+    for (int d = 0; d < 3; d++) {
+      const double pred = xu[d] + dt * v[i][d] + dt2 * f[i][d] / m;
+      s[d] += e.weight * pred;
+      s[3 + d] += e.weight * xu[d];
+    }
+    s[6] += e.weight * e.weight / m;
+  }
+  sums.resize(work.size());
+  MPI_Allreduce(work.data(), sums.data(), (int) work.size(), MPI_DOUBLE, MPI_SUM, world);
+
+  // targets F D_g with the current box (fix deform's affine remap carries them along)
+  double F[2][2];
+  deformation(domain->h, href, F);
+  lambda.assign(3 * ngroups, 0.0);
+  residual_max = 0.0;
+  for (int g = 0; g < ngroups; g++) {
+    const double *s = &sums[(std::size_t) NVAL * g];
+    const double *D = &dref[3 * g];
+    const double target[3] = {F[0][0] * D[0] + F[0][1] * D[1], F[1][1] * D[1], D[2]};
+    for (int d = 0; d < 3; d++) {
+      residual_max = std::max(residual_max, std::fabs(s[3 + d] - target[d]));
+      lambda[3 * g + d] = NCF::constraint_multiplier(s[d] - target[d], dt2 * s[6]);
+    }
+  }
+
+  for (auto &e : nodes) {
+    const int i = atom->map(e.tag);
+    if (i < 0 || i >= nlocal) continue;
+    double fc[3];
+    for (int d = 0; d < 3; d++) {
+      fc[d] = e.weight * lambda[3 * e.group + d];
+      f[i][d] += fc[d];
+    }
+    if (evflag) {
+      double xu[3], vv[6];
+      domain->unmap(x[i], image[i], xu);
+      vv[0] = xu[0] * fc[0];
+      vv[1] = xu[1] * fc[1];
+      vv[2] = xu[2] * fc[2];
+      vv[3] = xu[0] * fc[1];
+      vv[4] = xu[0] * fc[2];
+      vv[5] = xu[1] * fc[2];
+      v_tally(i, vv);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   minimisation: project the forces onto the constraint manifold (sum_i w_i f_i = 0 per group
+   and component); line-search steps along projected directions keep every C_g unchanged
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::min_post_force(int /*vflag*/)
+{
+  const int nlocal = atom->nlocal;
+  double **f = atom->f;
+  work.assign((std::size_t) 3 * ngroups, 0.0);
+  for (auto &e : nodes) {
+    const int i = atom->map(e.tag);
+    if (i < 0 || i >= nlocal) continue;
+    for (int d = 0; d < 3; d++) work[3 * e.group + d] += e.weight * f[i][d];
+  }
+  sums.resize(work.size());
+  MPI_Allreduce(work.data(), sums.data(), (int) work.size(), MPI_DOUBLE, MPI_SUM, world);
+  for (auto &e : nodes) {
+    const int i = atom->map(e.tag);
+    if (i < 0 || i >= nlocal) continue;
+    for (int d = 0; d < 3; d++) f[i][d] -= e.weight * sums[3 * e.group + d] / sum_w2[e.group];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNCFPBC::compute_scalar()
+{
+  return residual_max;
+}
+
+double FixNCFPBC::compute_vector(int n)
+{
+  if (n == 0) return ngroups;
+  if (n == 1) return (double) nodes.size();
+  return residual_max;
+}
+
+/* ----------------------------------------------------------------------
+   restart: reference state, groups and weights (the cell membership)
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  std::vector<double> buf;
+  buf.push_back((double) nodes.size());
+  buf.push_back(ngroups);
+  for (int k = 0; k < 6; k++) buf.push_back(href[k]);
+  for (int p = 0; p < 2; p++)
+    buf.insert(buf.end(),
+               {(double) pair_on[p], (double) mesh_cells[p][0], (double) mesh_cells[p][1],
+                (double) nmerged[p]});
+  for (int g = 0; g < ngroups; g++) buf.push_back(group_pair[g]);
+  for (auto &e : nodes)
+    buf.insert(buf.end(),
+               {(double) e.tag, (double) e.pair, (double) e.group, e.weight, e.xref[0], e.xref[1],
+                e.xref[2]});
+  int size = (int) (buf.size() * sizeof(double));
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(buf.data(), sizeof(double), buf.size(), fp);
+}
+
+void FixNCFPBC::restart(char *raw)
+{
+  auto *buf = (double *) raw;
+  std::size_t m = 0;
+  const auto n = (std::size_t) buf[m++];
+  ngroups = (int) buf[m++];
+  for (int k = 0; k < 6; k++) href[k] = buf[m++];
+  for (int p = 0; p < 2; p++) {
+    pair_on[p] = (int) buf[m++];
+    mesh_cells[p][0] = (int) buf[m++];
+    mesh_cells[p][1] = (int) buf[m++];
+    nmerged[p] = (int) buf[m++];
+  }
+  group_pair.resize(ngroups);
+  for (int g = 0; g < ngroups; g++) group_pair[g] = (int) buf[m++];
+  nodes.resize(n);
+  for (auto &e : nodes) {
+    e.tag = (tagint) buf[m++];
+    e.pair = (int) buf[m++];
+    e.group = (int) buf[m++];
+    e.weight = buf[m++];
+    for (double &xr : e.xref) xr = buf[m++];
+  }
+  finish_groups();
+  if (comm->me == 0)
+    utils::logmesg(
+        lmp,
+        "fix ncf/pbc: reference state and {} constraint groups restored from the restart file\n",
+        ngroups);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNCFPBC::memory_usage()
+{
+  return (double) nodes.size() * sizeof(EndNode) +
+      (double) (work.size() + sums.size()) * sizeof(double);
+}

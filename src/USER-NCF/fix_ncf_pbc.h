@@ -1,0 +1,73 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   fix ncf/pbc: averaged periodic boundary conditions on chain end nodes (paper section 4.3,
+   Eq. 2). Algebra in ncf_pbc.h; see doc/fix_ncf_pbc.md.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(ncf/pbc,FixNCFPBC);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_NCF_PBC_H
+#define LMP_FIX_NCF_PBC_H
+
+#include "fix.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixNCFPBC : public Fix {
+ public:
+  FixNCFPBC(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void min_setup(int) override;
+  void post_force(int) override;
+  void min_post_force(int) override;
+  double compute_scalar() override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  double memory_usage() override;
+
+ protected:
+  // one end node of the constraint; the same list on every rank
+  struct EndNode {
+    tagint tag;
+    int pair;          // 0: x faces, 1: y faces
+    int group;         // global group index
+    double weight;     // +1/n_upper or -1/n_lower within its group
+    double xref[3];    // unwrapped position in the reference state
+  };
+  std::vector<EndNode> nodes;
+  int ngroups;
+  std::vector<int> group_pair;    // face pair of each group
+  std::vector<double> sum_w2;     // per group: sum of w^2 (minimisation projection)
+  std::vector<double> dref;       // per group: D_g = sum_i w_i X_i^ref (3 components)
+  double href[6];                 // box h (xprd, yprd, zprd, yz, xz, xy) of the reference state
+  std::string endface_name;       // per-atom integer with the face codes, or "" for auto
+  int pair_on[2];                 // which face pairs are constrained
+  int user_cells[2][2];           // user mesh per pair (0 = auto)
+  int mesh_cells[2][2];           // mesh used
+  int nmerged[2];                 // groups lost to merging, per pair
+  double residual_max;            // largest |constraint| before the last correction (length)
+
+  std::vector<double> work, sums, lambda;    // per-step buffers
+
+  void parse(int, char **);
+  void capture_reference();
+  void finish_groups();
+  void box_vector(int pair, const double *h, double *a) const;
+  void predicted_box(double *h1, double *lo1, bool &remap, int &deform_groupbit) const;
+  void check_fix_order();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,408 @@
+// Integration tests of fix ncf/pbc (averaged periodic boundary conditions) through LAMMPS.
+
+#include "ncf_lammps_test.h"
+#include "ncf_pbc.h"
+
+#include "domain.h"
+#include "fix.h"
+#include "lammps.h"
+#include "modify.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <random>
+
+using namespace ncftest;
+using ::testing::HasSubstr;
+
+namespace {
+
+const double LX = 2.0e-3, LY = 1.6e-3, LZ = 1.0e-3;
+
+struct Mat {
+  std::string path, masses;
+  int nchain = 0, nper = 0;    // nodes per chain (open chains: N+1 nodes, both ends on faces)
+};
+
+// Chains crossing the box once along x at angles drawn from N(0, sigma), with their end nodes on
+// the x faces (face codes in an NCF_NODE section). sigma = 0 and ring = true gives the same chains
+// closed across the x boundary instead (ordinary periodicity, one node fewer per chain).
+Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring = false,
+              int ny = 8, int nz = 3, int nel = 10)
+{
+  Mat mat;
+  mat.nchain = ny * nz;
+  mat.nper = ring ? nel : nel + 1;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> angle(0.0, sigma_deg * M_PI / 180.0);
+  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
+  mat.path = dir + (ring ? "/ring.data" : "/mat.data");
+  FILE *fp = fopen(mat.path.c_str(), "w");
+  const int natoms = mat.nchain * mat.nper;
+  const int nbonds = mat.nchain * nel;
+  fprintf(fp, "mat\n\n%d atoms\n1 atom types\n%d bonds\n1 bond types\n\n", natoms, nbonds);
+  fprintf(fp, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n0 %.17g zlo zhi\n\n", LX, LY, LZ);
+  const double a = LX / nel, mass = 905.0 * M_PI / 4 * 69e-6 * 69e-6 * a;
+  fprintf(fp, "Atoms # bond\n\n");
+  std::vector<int> code;
+  std::vector<double> m;
+  int id = 0;
+  for (int c = 0; c < mat.nchain; c++) {
+    const double th = sigma_deg > 0 ? angle(rng) : 0.0;
+    const double y0 = (c % ny + 0.5) * LY / ny + (sigma_deg > 0 ? 0.2 * LY / ny * jitter(rng) : 0.0);
+    const double z0 = 0.3e-3 + (c / ny) * 0.15e-3;
+    for (int j = 0; j < mat.nper; j++) {
+      double x = j * a, y = y0 + j * a * std::tan(th);
+      int ix = 0, iy = 0;
+      // keep the coordinates inside the box with image flags (end node j = nel sits on xhi)
+      while (x >= LX) x -= LX, ix++;
+      while (y >= LY) y -= LY, iy++;
+      while (y < 0) y += LY, iy--;
+      fprintf(fp, "%d %d 1 %.17g %.17g %.17g %d %d 0\n", ++id, c + 1, x, y, z0, ix, iy);
+      code.push_back(ring ? 0 : (j == 0 ? 1 : (j == nel ? 2 : 0)));
+      // lumped masses: the two end nodes of an open chain carry half an element each
+      m.push_back((!ring && (j == 0 || j == nel)) ? 0.5 * mass : mass);
+    }
+  }
+  fprintf(fp, "\nBonds\n\n");
+  int b = 0;
+  for (int c = 0; c < mat.nchain; c++)
+    for (int j = 0; j < nel; j++) {
+      const int i1 = c * mat.nper + j + 1, i2 = c * mat.nper + (j + 1) % mat.nper + 1;
+      fprintf(fp, "%d 1 %d %d\n", ++b, i1, i2);
+    }
+  fprintf(fp, "\nNCF_NODE\n\n");
+  for (int i = 0; i < natoms; i++) fprintf(fp, "%d 1 %d\n", i + 1, code[i]);
+  fclose(fp);
+  // per-atom masses for the lumped end nodes
+  mat.masses = dir + (ring ? "/ring_masses.in" : "/masses.in");
+  FILE *fm = fopen(mat.masses.c_str(), "w");
+  fprintf(fm, "set group all mass %.17g\n", mass);
+  for (int i = 0; i < natoms; i++)
+    if (m[i] != mass) fprintf(fm, "set atom %d mass %.17g\n", i + 1, m[i]);
+  fclose(fm);
+  return mat;
+}
+
+const char *SETUP = R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+newton on
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+bond_style ncf/chain
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+)";
+
+void load(Lammps &l, const Mat &mat, const std::string &dir)
+{
+  l.cmds(SETUP);
+  l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
+  l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
+  l.cmd("include " + mat.masses);
+  l.cmd("group ends variable isend");
+}
+
+// independent evaluation of the averaged constraint from the gathered positions: groups from the
+// kernel with the reference positions, then sum_i w_i X_i - F D_g for every group
+double constraint_error(const std::vector<double> &xref, const std::vector<double> &x,
+                        const std::vector<int> &code, const double *href, const double *h)
+{
+  std::vector<NCF::FaceNode> fn;
+  std::vector<int> idx;
+  for (std::size_t i = 0; i < code.size(); i++)
+    if (code[i] == 1 || code[i] == 2) {
+      fn.push_back({code[i] == 1 ? -1 : 1, xref[3 * i + 1], xref[3 * i + 2]});
+      idx.push_back((int) i);
+    }
+  auto mesh = NCF::auto_face_mesh(fn, href[1]);
+  int ng = 0;
+  auto g = NCF::face_groups(mesh, fn, ng);
+  auto w = NCF::face_weights(fn, g, ng);
+  std::vector<double> c(3 * ng, 0.0), d(3 * ng, 0.0);
+  for (std::size_t k = 0; k < fn.size(); k++)
+    for (int dim = 0; dim < 3; dim++) {
+      c[3 * g[k] + dim] += w[k] * x[3 * idx[k] + dim];
+      d[3 * g[k] + dim] += w[k] * xref[3 * idx[k] + dim];
+    }
+  // F = h href^-1 in the plane (x, y), identity in z
+  const double F00 = h[0] / href[0], F01 = (h[5] - h[0] * href[5] / href[0]) / href[1],
+               F11 = h[1] / href[1];
+  double err = 0.0;
+  for (int k = 0; k < ng; k++) {
+    const double t[3] = {F00 * d[3 * k] + F01 * d[3 * k + 1], F11 * d[3 * k + 1], d[3 * k + 2]};
+    for (int dim = 0; dim < 3; dim++) err = std::max(err, std::fabs(c[3 * k + dim] - t[dim]));
+  }
+  return err;
+}
+
+std::vector<int> face_codes(const Mat &mat, bool ring = false)
+{
+  std::vector<int> code;
+  for (int c = 0; c < mat.nchain; c++)
+    for (int j = 0; j < mat.nper; j++) code.push_back(ring ? 0 : (j == 0 ? 1 : (j == mat.nper - 1 ? 2 : 0)));
+  return code;
+}
+
+void box_h(Lammps &l, double *h)
+{
+  for (int k = 0; k < 6; k++) h[k] = l.lmp->domain->h[k];
+}
+
+}    // namespace
+
+TEST(FixPBC, AveragedConstraintHoldsOver10kSteps)
+{
+  auto dir = scratch_dir("pbc_hold");
+  auto mat = write_mat(dir, 3.0, 11);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  auto xref = l.positions();
+  double href[6], h[6];
+  box_h(l, href);
+  l.cmds(R"(
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+thermo_style custom step pe ke f_pbc
+)");
+  l.cmd("run 10000");
+  auto x = l.positions();
+  box_h(l, h);
+  const double err = constraint_error(xref, x, face_codes(mat), href, h);
+  std::printf("[measured] averaged PBC error after 1e4 steps: %.3g m (%.3g of the box)\n", err, err / LX);
+  EXPECT_LT(err, 1e-10 * LX);
+  // the fix reports the same order of magnitude
+  EXPECT_LT(l.value("f_pbc"), 1e-10 * LX);
+  // and the chains did move (the constraint is not trivially satisfied)
+  EXPECT_GT(max_abs_diff(x, xref), 1e-7);
+}
+
+TEST(FixPBC, ConstraintFollowsABoxDeformation)
+{
+  auto dir = scratch_dir("pbc_deform");
+  auto mat = write_mat(dir, 3.0, 12);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  l.cmd("change_box all triclinic");
+  auto xref = l.positions();
+  double href[6], h[6];
+  box_h(l, href);
+  l.cmds(R"(
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix deform all deform 1 x erate 1000 xy erate 2000 remap x
+fix pbc ends ncf/pbc faces x
+timestep 1e-9
+run 10000
+)");
+  auto x = l.positions();
+  box_h(l, h);
+  EXPECT_NEAR(h[0], LX * 1.01, 1e-12);    // 1 % stretch happened
+  EXPECT_GT(std::fabs(h[5]), 1e-5);       // and a shear
+  const double err = constraint_error(xref, x, face_codes(mat), href, h);
+  std::printf("[measured] averaged PBC error with box deformation: %.3g m (%.3g of the box)\n", err, err / LX);
+  EXPECT_LT(err, 1e-10 * LX);
+}
+
+TEST(FixPBC, ConservesMomentum)
+{
+  auto dir = scratch_dir("pbc_momentum");
+  auto mat = write_mat(dir, 3.0, 13);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  l.cmds(R"(
+velocity all create 5e12 5 loop geom mom yes
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+variable px equal mass(all)*vcm(all,x)
+variable py equal mass(all)*vcm(all,y)
+variable pz equal mass(all)*vcm(all,z)
+variable pscale equal sqrt(2*ke*mass(all))
+timestep 5e-9
+run 2000
+)");
+  const double scale = l.value("v_pscale");
+  EXPECT_LT(std::fabs(l.value("v_px")), 1e-12 * scale);
+  EXPECT_LT(std::fabs(l.value("v_py")), 1e-12 * scale);
+  EXPECT_LT(std::fabs(l.value("v_pz")), 1e-12 * scale);
+}
+
+TEST(FixPBC, WithoutVariabilityItIsOrdinaryPeriodicity)
+{
+  // sigma = 0: open chains with end nodes on the faces + fix ncf/pbc against the same chains
+  // closed across the boundary: the interior nodes follow the same trajectory
+  auto dir = scratch_dir("pbc_sigma0");
+  auto open = write_mat(dir, 0.0, 1, false);
+  auto ring = write_mat(dir, 0.0, 1, true);
+  // a smooth initial deformation, identical in both (the ring has no node j = nel)
+  auto perturb = [&](Lammps &l, const Mat &mat) {
+    for (int c = 0; c < mat.nchain; c++)
+      for (int j = 0; j < mat.nper; j++) {
+        const int id = c * mat.nper + j + 1;
+        const double s = std::sin(2 * M_PI * j / 10.0 + c);
+        l.cmd(fmt::format("set atom {} vx {:.17g} vy {:.17g} vz {:.17g}", id, 0.3 * s, 0.5 * s, 0.2 * std::cos(c + 2 * M_PI * j / 10.0)));
+      }
+  };
+  std::vector<double> xo, xr, xr0;
+  {
+    Lammps l;
+    l.cmd("variable isend atom i_ncf_end>0");
+    load(l, open, dir);
+    perturb(l, open);
+    l.cmds("fix nve all nve\nfix pbc ends ncf/pbc faces x\ntimestep 5e-9\nrun 3000");
+    xo = l.positions();
+  }
+  {
+    Lammps l;
+    l.cmd("variable isend atom i_ncf_end>0");
+    load(l, ring, dir);
+    perturb(l, ring);
+    xr0 = l.positions();
+    l.cmds("fix nve all nve\ntimestep 5e-9\nrun 3000");
+    xr = l.positions();
+  }
+  // compare node j of chain c (j < nel) in both; the open chain's node nel is the image of node 0
+  double diff = 0.0;
+  for (int c = 0; c < open.nchain; c++)
+    for (int j = 0; j < ring.nper; j++)
+      for (int d = 0; d < 3; d++) {
+        const double a = xo[3 * (c * open.nper + j) + d], b = xr[3 * (c * ring.nper + j) + d];
+        diff = std::max(diff, std::fabs(a - b));
+      }
+  std::printf("[measured] sigma = 0: max |x_open - x_ring| = %.3g m\n", diff);
+
+  EXPECT_LT(diff, 1e-10 * LX);
+  EXPECT_GT(max_abs_diff(xr, xr0), 1e-7);    // the chains moved
+}
+
+TEST(FixPBC, RestartContinuesTheSameTrajectory)
+{
+  auto dir = scratch_dir("pbc_restart");
+  auto mat = write_mat(dir, 3.0, 14);
+  std::vector<double> straight;
+  {
+    Lammps l;
+    l.cmd("variable isend atom i_ncf_end>0");
+    load(l, mat, dir);
+    l.cmds(R"(
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+run 500
+)");
+    l.cmd("write_restart " + dir + "/half.restart");
+    l.cmd("run 500");
+    straight = l.positions();
+  }
+  Lammps r;
+  r.cmd("read_restart " + dir + "/half.restart");
+  r.cmds(R"(
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+variable isend atom i_ncf_end>0
+group ends variable isend
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+run 500
+)");
+  EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
+}
+
+TEST(FixPBC, MinimizationKeepsTheConstraint)
+{
+  auto dir = scratch_dir("pbc_min");
+  auto mat = write_mat(dir, 3.0, 15);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  auto xref = l.positions();
+  double href[6];
+  box_h(l, href);
+  // pull every bond by a shrink factor so that the chains want to contract
+  l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6 shrink 0.01
+fix pbc ends ncf/pbc faces x
+min_style cg
+min_modify dmax 1e-5
+minimize 0 1e-12 2000 20000
+)");
+  auto x = l.positions();
+  const double err = constraint_error(xref, x, face_codes(mat), href, href);
+  EXPECT_LT(err, 1e-10 * LX);
+  EXPECT_GT(max_abs_diff(x, xref), 1e-7);    // it did relax
+}
+
+struct BadPbc {
+  const char *command;
+  const char *message;
+};
+
+class FixPBCErrors : public ::testing::TestWithParam<BadPbc> {};
+
+TEST_P(FixPBCErrors, NameTheProblem)
+{
+  auto dir = scratch_dir("pbc_errors");
+  auto mat = write_mat(dir, 3.0, 16);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  auto msg = error_of([&] { l.cmd(GetParam().command); });
+  EXPECT_THAT(msg, HasSubstr(GetParam().message)) << GetParam().command;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, FixPBCErrors,
+    ::testing::Values(
+        BadPbc{"fix p ends ncf/pbc faces z", "fix ncf/pbc: faces 'z' is not one of x, y, xy"},
+        BadPbc{"fix p ends ncf/pbc faces", "fix ncf/pbc: keyword 'faces' needs 1 value(s)"},
+        BadPbc{"fix p ends ncf/pbc endface ncf_end", "fix ncf/pbc: endface 'ncf_end' must be 'auto' or a per-atom integer i_NAME"},
+        BadPbc{"fix p ends ncf/pbc endface i_nothing", "fix ncf/pbc: no per-atom integer i_nothing"},
+        BadPbc{"fix p ends ncf/pbc xcells 0 2", "fix ncf/pbc: xcells values must be >= 1, got 0"},
+        BadPbc{"fix p ends ncf/pbc xcells 4", "fix ncf/pbc: keyword 'xcells' needs 2 value(s)"},
+        BadPbc{"fix p ends ncf/pbc stiffness 3", "fix ncf/pbc: unknown keyword 'stiffness'"},
+        BadPbc{"fix p ends ncf/pbc faces y", "fix ncf/pbc: no end node of group ends lies on the y faces"},
+        BadPbc{"fix p ends ncf/pbc faces xy", "fix ncf/pbc: no end node of group ends lies on the y faces"}));
+
+TEST(FixPBC, NonPeriodicDirectionIsRefused)
+{
+  auto dir = scratch_dir("pbc_nonperiodic");
+  auto mat = write_mat(dir, 3.0, 17);
+  Lammps l;
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  l.cmd("change_box all boundary f p f");
+  EXPECT_THAT(error_of([&] { l.cmd("fix p ends ncf/pbc faces x"); }),
+              HasSubstr("fix ncf/pbc: faces x need a periodic box in x"));
+}
+
+TEST(FixPBC, LaterFixChangingForcesIsReported)
+{
+  auto dir = scratch_dir("pbc_order");
+  auto mat = write_mat(dir, 3.0, 18);
+  Lammps l(MPI_COMM_WORLD, dir + "/log.lammps");
+  l.cmd("variable isend atom i_ncf_end>0");
+  load(l, mat, dir);
+  l.cmds("fix nve all nve\nfix pbc ends ncf/pbc faces x\nfix sf ends setforce 0 0 NULL\ntimestep 5e-9\nrun 0");
+  l.cmd("log none");
+  std::ifstream in(dir + "/log.lammps");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("fix ncf/pbc: fix sf (setforce) changes forces after fix ncf/pbc"));
+}
