@@ -2,6 +2,7 @@
 
 #include "ncf_lammps_test.h"
 #include "ncf_pbc.h"
+#include "ncf_scenes.h"
 
 #include "domain.h"
 #include "fix.h"
@@ -22,72 +23,7 @@ using ::testing::HasSubstr;
 
 namespace {
 
-const double LX = 2.0e-3, LY = 1.6e-3, LZ = 1.0e-3;
-
-struct Mat {
-  std::string path, masses;
-  int nchain = 0, nper = 0;    // nodes per chain (open chains: N+1 nodes, both ends on faces)
-};
-
-// Chains crossing the box once along x at angles drawn from N(0, sigma), with their end nodes on
-// the x faces (face codes in an NCF_NODE section). sigma = 0 and ring = true gives the same chains
-// closed across the x boundary instead (ordinary periodicity, one node fewer per chain).
-Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring = false,
-              int ny = 8, int nz = 3, int nel = 10)
-{
-  Mat mat;
-  mat.nchain = ny * nz;
-  mat.nper = ring ? nel : nel + 1;
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> angle(0.0, sigma_deg * M_PI / 180.0);
-  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
-  mat.path = dir + (ring ? "/ring.data" : "/mat.data");
-  FILE *fp = fopen(mat.path.c_str(), "w");
-  const int natoms = mat.nchain * mat.nper;
-  const int nbonds = mat.nchain * nel;
-  fprintf(fp, "mat\n\n%d atoms\n1 atom types\n%d bonds\n1 bond types\n\n", natoms, nbonds);
-  fprintf(fp, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n0 %.17g zlo zhi\n\n", LX, LY, LZ);
-  const double a = LX / nel, mass = 905.0 * M_PI / 4 * 69e-6 * 69e-6 * a;
-  fprintf(fp, "Atoms # bond\n\n");
-  std::vector<int> code;
-  std::vector<double> m;
-  int id = 0;
-  for (int c = 0; c < mat.nchain; c++) {
-    const double th = sigma_deg > 0 ? angle(rng) : 0.0;
-    const double y0 = (c % ny + 0.5) * LY / ny + (sigma_deg > 0 ? 0.2 * LY / ny * jitter(rng) : 0.0);
-    const double z0 = 0.3e-3 + (c / ny) * 0.15e-3;
-    for (int j = 0; j < mat.nper; j++) {
-      double x = j * a, y = y0 + j * a * std::tan(th);
-      int ix = 0, iy = 0;
-      // keep the coordinates inside the box with image flags (end node j = nel sits on xhi)
-      while (x >= LX) x -= LX, ix++;
-      while (y >= LY) y -= LY, iy++;
-      while (y < 0) y += LY, iy--;
-      fprintf(fp, "%d %d 1 %.17g %.17g %.17g %d %d 0\n", ++id, c + 1, x, y, z0, ix, iy);
-      code.push_back(ring ? 0 : (j == 0 ? 1 : (j == nel ? 2 : 0)));
-      // lumped masses: the two end nodes of an open chain carry half an element each
-      m.push_back((!ring && (j == 0 || j == nel)) ? 0.5 * mass : mass);
-    }
-  }
-  fprintf(fp, "\nBonds\n\n");
-  int b = 0;
-  for (int c = 0; c < mat.nchain; c++)
-    for (int j = 0; j < nel; j++) {
-      const int i1 = c * mat.nper + j + 1, i2 = c * mat.nper + (j + 1) % mat.nper + 1;
-      fprintf(fp, "%d 1 %d %d\n", ++b, i1, i2);
-    }
-  fprintf(fp, "\nNCF_NODE\n\n");
-  for (int i = 0; i < natoms; i++) fprintf(fp, "%d 1 %d\n", i + 1, code[i]);
-  fclose(fp);
-  // per-atom masses for the lumped end nodes
-  mat.masses = dir + (ring ? "/ring_masses.in" : "/masses.in");
-  FILE *fm = fopen(mat.masses.c_str(), "w");
-  fprintf(fm, "set group all mass %.17g\n", mass);
-  for (int i = 0; i < natoms; i++)
-    if (m[i] != mass) fprintf(fm, "set atom %d mass %.17g\n", i + 1, m[i]);
-  fclose(fm);
-  return mat;
-}
+const double LX = MAT_LX;
 
 const char *SETUP = R"(
 units si
@@ -142,14 +78,6 @@ double constraint_error(const std::vector<double> &xref, const std::vector<doubl
     for (int dim = 0; dim < 3; dim++) err = std::max(err, std::fabs(c[3 * k + dim] - t[dim]));
   }
   return err;
-}
-
-std::vector<int> face_codes(const Mat &mat, bool ring = false)
-{
-  std::vector<int> code;
-  for (int c = 0; c < mat.nchain; c++)
-    for (int j = 0; j < mat.nper; j++) code.push_back(ring ? 0 : (j == 0 ? 1 : (j == mat.nper - 1 ? 2 : 0)));
-  return code;
 }
 
 void box_h(Lammps &l, double *h)

@@ -1,0 +1,33 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF test scenes shared by the integration and mpi tests
+------------------------------------------------------------------------- */
+
+#ifndef NCF_SCENES_H
+#define NCF_SCENES_H
+
+#include <string>
+#include <vector>
+
+namespace ncftest {
+
+// a mat of chains crossing a 2.0 x 1.6 x 1.0 mm box once along x
+constexpr double MAT_LX = 2.0e-3, MAT_LY = 1.6e-3, MAT_LZ = 1.0e-3;
+
+struct Mat {
+  std::string path, masses;    // data file; LAMMPS commands setting the lumped node masses
+  int nchain = 0, nper = 0;    // nodes per chain (open chains: nel+1 nodes, both ends on faces)
+};
+
+// Chains crossing the box once along x at angles drawn from N(0, sigma), with their end nodes on
+// the x faces (face codes in an NCF_NODE section: i_ncf_layer i_ncf_end). ring = true closes the
+// same chains across the x boundary instead (ordinary periodicity, one node fewer per chain).
+// Needs per-atom masses (fix property/atom rmass) and reads with "fix NCF_NODE NULL NCF_NODE".
+Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring = false,
+              int ny = 8, int nz = 3, int nel = 10);
+
+// face code of every atom of a mat, in tag order
+std::vector<int> face_codes(const Mat &mat, bool ring = false);
+
+}    // namespace ncftest
+
+#endif
