@@ -1,0 +1,83 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   Engine-free contact law between two chain segments (cylinders of diameters d_a, d_b around the
+   axes A0-A1 and B0-B1). Shared by pair_style ncf/contact and the fixes (plates, needles);
+   unit-tested directly. No LAMMPS dependency.
+
+   Normal part: a line-to-line penalty, integrated along segment A against the axis of B
+
+     E = (k_n / 2) * integral over A of  W(s) * h(x)^2  dx,       h = (D^2 - r^2) / (2 D) > 0
+
+   with D = (d_a + d_b) / 2 the contact distance, r(x) the distance of the point x of axis A from
+   the (infinite) line of B, s its arc-length position along B and W(s) a weight that is 1 on
+   [e, L_B - e], 0 outside [-e, L_B + e] and linear in between (ramp half-width e). On a straight
+   chain the ramps of two consecutive segments add up to 1, so the chain is covered exactly once
+   and a contact whose closest point sits on a shared node is neither lost nor counted twice.
+   h equals the penetration g = D - r to first order (h = g (1 - g / 2D)); the force per unit
+   length k_n h r / D is largest at r = D / sqrt(3) (penetration 0.42 D), far beyond the working
+   range of a penalty contact.
+
+   Because h^2 is a polynomial of degree 4 along A and W is piecewise linear, the integral and
+   its gradient are computed exactly (3-point Gauss on each smooth piece): the force is exactly
+   -dE/dx, continuous in the angle between the segments (crossing, nearly parallel, parallel),
+   and for parallel chains proportional to the overlap length independently of the mesh. The
+   energy depends on distances only, so the force and moment of the four node forces balance.
+
+   Units: k_n is a stiffness per unit contact length [N/m^2 = Pa]: two parallel cylinders
+   pressed together over a length l with penetration g carry F = k_n g l.
+
+   Tangential part (friction_step): an elastic slip spring at the contact point, stiffness
+   k_t * l_c (k_t per unit contact length, l_c = integral of W over the contact), capped by
+   mu * F_n (Coulomb), history = the slip vector, kept in the tangent plane.
+------------------------------------------------------------------------- */
+
+#ifndef NCF_CONTACT_H
+#define NCF_CONTACT_H
+
+#include "ncf_geometry.h"
+
+namespace NCF {
+
+struct SegmentContact {
+  bool active = false;      // true if any part of A penetrates B's cylinder (within W > 0)
+  double energy = 0.0;      // E [J]
+  Vec3 f[4];                // forces on A0, A1, B0, B1 [N] (= -dE/dx)
+  double fn = 0.0;          // magnitude of the resultant normal force on A [N]
+  Vec3 normal;              // unit direction of that resultant (from B towards A)
+  double xi = 0.0;          // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
+  double t = 0.0;           // contact point on B: B0 + t (B1 - B0), in [0, 1]
+  double length = 0.0;      // contact length l_c = integral of W over the penetrated part [m]
+  double penetration = 0.0;    // D - (distance of the closest points of the two segments) [m]
+};
+
+// Normal penalty contact of segment A (a0-a1) against segment B (b0-b1).
+// dc: contact distance D = (d_a + d_b)/2 > 0; kn: normal stiffness per length [Pa];
+// ramp: half-width e > 0 of the weight ramps at B's nodes [m].
+// Segments shorter than MIN_LENGTH * D carry no contact (their neighbours do): the weight W
+// depends on B's direction, so the force on a very short B grows like 1/L_B; below this length
+// the contact is dropped instead. Never NaN.
+constexpr double MIN_LENGTH = 1e-3;
+SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                               double dc, double kn, double ramp);
+
+// One step of the Coulomb slip spring.
+//   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)
+//   normal: unit normal of the contact; vrel: velocity of A's contact point minus B's [m/s]
+//   kt:     tangential stiffness of this contact [N/m]; fn: normal force [N]; mu: friction coeff.
+// Returns the tangential force on A (B gets the opposite), |F_t| <= mu fn. A zero kt or fn gives
+// zero force and a zero slip.
+struct FrictionResult {
+  Vec3 force;
+  bool sliding = false;
+  double energy = 0.0;    // elastic energy stored in the spring after the step [J]
+};
+FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt,
+                             double kt, double fn, double mu);
+
+// Critical time step of a node of mass m pressed by a contact of stiffness kn over a length l:
+// dt_c = 2 sqrt(m / (kn l)) (explicit central differences). See doc/pair_ncf_contact.md.
+double contact_critical_dt(double mass, double kn, double length);
+
+}    // namespace NCF
+
+#endif

@@ -1,0 +1,297 @@
+// Unit tests of the engine-free contact law (ncf_contact.h): force = -dE/dx by finite
+// differences, force and moment balance, continuity from crossing to exactly parallel, parallel
+// contact proportional to the overlap length and independent of the mesh, no double counting at
+// shared nodes, degenerate cases finite, Coulomb slip spring.
+
+#include "ncf_contact.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using NCF::friction_step;
+using NCF::segment_contact;
+using NCF::SegmentContact;
+using NCF::Vec3;
+
+namespace {
+
+const double D = 69e-6;           // contact distance (equal diameters 69 um)
+const double KN = 1e7;            // normal stiffness per length [Pa]
+const double RAMP = 0.25 * D;    // ramp half-width
+
+double energy_of(const Vec3 x[4])
+{
+  return segment_contact(x[0], x[1], x[2], x[3], D, KN, RAMP).energy;
+}
+
+Vec3 resultant(const SegmentContact &c) { return c.f[0] + c.f[1] + c.f[2] + c.f[3]; }
+Vec3 moment(const SegmentContact &c, const Vec3 x[4])
+{
+  Vec3 m;
+  for (int n = 0; n < 4; n++) m += NCF::cross(x[n], c.f[n]);
+  return m;
+}
+
+bool finite(const SegmentContact &c)
+{
+  bool ok = std::isfinite(c.energy) && std::isfinite(c.fn) && std::isfinite(c.xi) &&
+      std::isfinite(c.t) && std::isfinite(c.length);
+  for (int n = 0; n < 4; n++)
+    for (int d = 0; d < 3; d++) ok = ok && std::isfinite(c.f[n][d]);
+  return ok;
+}
+
+// sum of the contact of every segment of chain a against every segment of chain b
+struct ChainSum {
+  double energy = 0.0;
+  std::vector<Vec3> fa, fb;
+  int active = 0;
+};
+ChainSum chain_contact(const std::vector<Vec3> &a, const std::vector<Vec3> &b)
+{
+  ChainSum out;
+  out.fa.assign(a.size(), Vec3());
+  out.fb.assign(b.size(), Vec3());
+  for (size_t i = 0; i + 1 < a.size(); i++)
+    for (size_t j = 0; j + 1 < b.size(); j++) {
+      auto c = segment_contact(a[i], a[i + 1], b[j], b[j + 1], D, KN, RAMP);
+      if (!c.active) continue;
+      out.active++;
+      out.energy += c.energy;
+      out.fa[i] += c.f[0];
+      out.fa[i + 1] += c.f[1];
+      out.fb[j] += c.f[2];
+      out.fb[j + 1] += c.f[3];
+    }
+  return out;
+}
+
+std::vector<Vec3> straight_chain(Vec3 start, Vec3 dir, double length, double mesh)
+{
+  const int n = (int) std::lround(length / mesh);
+  std::vector<Vec3> x;
+  for (int i = 0; i <= n; i++) x.push_back(start + (length * i / n) * dir);
+  return x;
+}
+
+}    // namespace
+
+TEST(Contact, ForceIsMinusEnergyGradient)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int tested = 0;
+  for (int trial = 0; trial < 400 && tested < 120; trial++) {
+    const double L = 2e-4;
+    Vec3 x[4];
+    x[0] = Vec3(-0.5 * L, 0.0, 0.0) + 0.3 * L * Vec3(u(rng), u(rng), u(rng));
+    x[1] = Vec3(0.5 * L, 0.0, 0.0) + 0.3 * L * Vec3(u(rng), u(rng), u(rng));
+    // B: crossing, nearly parallel or parallel, at a distance below D
+    const double ang = (trial % 4 == 0) ? 0.0 : (trial % 4 == 1 ? 1e-3 * u(rng) : 1.5 * u(rng));
+    const Vec3 dir(std::cos(ang), std::sin(ang), 0.0);
+    const Vec3 c = Vec3(0.3 * L * u(rng), 0.3 * L * u(rng), D * (0.6 + 0.35 * u(rng)));
+    x[2] = c - 0.5 * L * dir;
+    x[3] = c + 0.5 * L * dir;
+    auto res = segment_contact(x[0], x[1], x[2], x[3], D, KN, RAMP);
+    if (!res.active) continue;
+    tested++;
+    const double h = 1e-6 * D;
+    double fmax = 0.0;
+    for (int n = 0; n < 4; n++) fmax = std::max(fmax, NCF::norm(res.f[n]));
+    for (int n = 0; n < 4; n++)
+      for (int d = 0; d < 3; d++) {
+        Vec3 xp[4] = {x[0], x[1], x[2], x[3]}, xm[4] = {x[0], x[1], x[2], x[3]};
+        double *pp = (d == 0) ? &xp[n].x : (d == 1 ? &xp[n].y : &xp[n].z);
+        double *pm = (d == 0) ? &xm[n].x : (d == 1 ? &xm[n].y : &xm[n].z);
+        *pp += h;
+        *pm -= h;
+        const double fd = -(energy_of(xp) - energy_of(xm)) / (2.0 * h);
+        EXPECT_NEAR(res.f[n][d], fd, 1e-6 * fmax + 1e-12)
+            << "trial " << trial << " node " << n << " dim " << d;
+      }
+  }
+  EXPECT_GE(tested, 100);
+}
+
+TEST(Contact, ForceAndMomentBalance)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; trial++) {
+    const double L = 2e-4;
+    Vec3 x[4] = {Vec3(-L / 2, 0, 0) + 0.4 * L * Vec3(u(rng), u(rng), u(rng)),
+                 Vec3(L / 2, 0, 0) + 0.4 * L * Vec3(u(rng), u(rng), u(rng)),
+                 Vec3(0, -L / 2, 0.5 * D) + 0.4 * L * Vec3(u(rng), u(rng), u(rng)),
+                 Vec3(0, L / 2, 0.5 * D) + 0.4 * L * Vec3(u(rng), u(rng), u(rng))};
+    auto c = segment_contact(x[0], x[1], x[2], x[3], D, KN, RAMP);
+    if (!c.active) continue;
+    double fmax = 0.0;
+    for (int n = 0; n < 4; n++) fmax = std::max(fmax, NCF::norm(c.f[n]));
+    EXPECT_LT(NCF::norm(resultant(c)), 1e-12 * fmax);
+    EXPECT_LT(NCF::norm(moment(c, x)), 1e-11 * fmax * L);
+  }
+}
+
+TEST(Contact, ContinuousFromCrossingToExactlyParallel)
+{
+  // B (long) rotated about the common normal through the contact: crossing at 90 deg down to
+  // exactly parallel. The total normal force changes smoothly with the angle (no jump anywhere,
+  // in particular none between 1e-12 rad and 0).
+  const double L = 2e-4, gap = 0.98 * D;
+  auto force_at = [&](double ang) {
+    const Vec3 a0(-L / 2, 0, 0), a1(L / 2, 0, 0);
+    const Vec3 dir(std::cos(ang), std::sin(ang), 0);
+    const Vec3 b0 = Vec3(0, 0, gap) - 2.0 * L * dir, b1 = Vec3(0, 0, gap) + 2.0 * L * dir;
+    auto c = segment_contact(a0, a1, b0, b1, D, KN, RAMP);
+    EXPECT_TRUE(finite(c));
+    return c.fn;
+  };
+  double prev = force_at(M_PI / 2);
+  const int n = 2000;
+  double maxjump = 0.0;
+  for (int k = 1; k <= n; k++) {
+    const double ang = M_PI / 2 * (1.0 - double(k) / n);
+    const double f = force_at(ang);
+    maxjump = std::max(maxjump, std::fabs(f - prev));
+    prev = f;
+  }
+  const double fpar = force_at(0.0);
+  // parallel: F = kn h(gap) (gap / D) L  (the whole of A is inside B's cylinder)
+  const double hpen = (D * D - gap * gap) / (2 * D);
+  EXPECT_NEAR(fpar, KN * hpen * gap / D * L, 1e-9 * fpar);
+  // the force ramps from the crossing value to the parallel value without jumps: the largest
+  // step over 2000 angle steps is a small fraction of the range
+  EXPECT_LT(maxjump, 0.02 * fpar);
+  for (double ang : {1e-4, 1e-6, 1e-8, 1e-10, 1e-12})
+    EXPECT_NEAR(force_at(ang), fpar, 2e-3 * fpar + 10 * ang * fpar) << "angle " << ang;
+  EXPECT_GT(force_at(M_PI / 2), 0.0);
+}
+
+TEST(Contact, ParallelForceProportionalToOverlapAndMeshIndependent)
+{
+  // chain A above chain B, parallel, overlapping over a length l; nodes of A not aligned with
+  // B's. Total force = kn h (gap / D) l for mesh 0.2, 0.1 and 0.05 mm, within 2 %; no torque on A.
+  const double gap = 0.97 * D, hpen = (D * D - gap * gap) / (2 * D);
+  for (double overlap : {0.6e-3, 1.0e-3}) {
+    std::vector<double> forces;
+    for (double mesh : {0.2e-3, 0.1e-3, 0.05e-3}) {
+      auto b = straight_chain(Vec3(-1e-3, 0, 0), Vec3(1, 0, 0), 4e-3, mesh);
+      auto a = straight_chain(Vec3(0.0123e-3, 0, gap), Vec3(1, 0, 0), overlap, mesh * 0.93);
+      auto s = chain_contact(a, b);
+      Vec3 fa, ma;
+      const Vec3 ca = 0.5 * (a.front() + a.back());
+      for (size_t i = 0; i < a.size(); i++) {
+        fa += s.fa[i];
+        ma += NCF::cross(a[i] - ca, s.fa[i]);
+      }
+      const double expect = KN * hpen * gap / D * overlap;
+      EXPECT_NEAR(fa.z, expect, 0.02 * expect) << "mesh " << mesh << " overlap " << overlap;
+      EXPECT_NEAR(fa.x, 0.0, 1e-9 * expect);
+      EXPECT_NEAR(fa.y, 0.0, 1e-9 * expect);
+      EXPECT_LT(NCF::norm(ma), 1e-6 * expect * overlap) << "spurious torque, mesh " << mesh;
+      forces.push_back(fa.z);
+    }
+    for (double f : forces) EXPECT_NEAR(f, forces[0], 0.02 * forces[0]);
+  }
+}
+
+TEST(Contact, NoDoubleCountingAtSharedNodes)
+{
+  // a short crossing segment slides along a chain of 0.2 mm segments: the total force is the
+  // same as against one long segment, wherever the crossing sits relative to the nodes
+  const double gap = 0.95 * D;
+  auto b = straight_chain(Vec3(-1e-3, 0, 0), Vec3(1, 0, 0), 2e-3, 0.2e-3);
+  const std::vector<Vec3> blong = {b.front(), b.back()};
+  for (double ang : {M_PI / 2, 0.3}) {
+    const Vec3 dir(std::cos(ang), std::sin(ang), 0);
+    double fref = -1.0;
+    for (int k = 0; k <= 100; k++) {
+      const Vec3 c(-0.3e-3 + 0.4e-3 * k / 100.0, 0, gap);
+      const std::vector<Vec3> a = {c - 1e-4 * dir, c + 1e-4 * dir};
+      auto s = chain_contact(a, b), s1 = chain_contact(a, blong);
+      const double f = (s.fa[0] + s.fa[1]).z, f1 = (s1.fa[0] + s1.fa[1]).z;
+      EXPECT_NEAR(f, f1, 1e-9 * f1) << "angle " << ang << " position " << k;
+      if (fref < 0) fref = f;
+      EXPECT_NEAR(f, fref, 1e-9 * fref);
+    }
+  }
+}
+
+TEST(Contact, DegenerateCasesAreFinite)
+{
+  const Vec3 o(0, 0, 0), x1(1e-4, 0, 0), y1(0, 1e-4, 0);
+  struct Deg {
+    const char *name;
+    Vec3 a0, a1, b0, b1;
+  } cases[] = {
+      {"axes crossing at zero distance", Vec3(-1e-4, 0, 0), x1, Vec3(0, -1e-4, 0), y1},
+      {"coincident segments", o, x1, o, x1},
+      {"collinear overlapping", o, x1, Vec3(0.5e-4, 0, 0), Vec3(1.5e-4, 0, 0)},
+      {"zero-length A", Vec3(0, 0, 1e-5), Vec3(0, 0, 1e-5), Vec3(-1e-4, 0, 0), x1},
+      {"zero-length B", Vec3(-1e-4, 0, 0), x1, Vec3(0, 0, 1e-5), Vec3(0, 0, 1e-5)},
+      {"very short A", Vec3(0, 0, 1e-5), Vec3(1e-15, 0, 1e-5), Vec3(-1e-4, 0, 0), x1},
+      {"very short B", Vec3(-1e-4, 0, 1e-5), x1, Vec3(0, 0, 0), Vec3(0, 1e-13, 0)},
+      {"short B (shorter than the ramps)", Vec3(-1e-4, 0, 1e-5), x1, Vec3(0, 0, 0),
+       Vec3(0, 1e-6, 0)},
+      {"A point on B's axis", Vec3(0, 0, 0), Vec3(0, 0, 1e-4), Vec3(-1e-4, 0, 0), x1},
+  };
+  for (const auto &c : cases) {
+    auto r = segment_contact(c.a0, c.a1, c.b0, c.b1, D, KN, RAMP);
+    EXPECT_TRUE(finite(r)) << c.name;
+    for (int n = 0; n < 4; n++) EXPECT_LT(NCF::norm(r.f[n]), KN * D * 1e-3) << c.name;
+  }
+}
+
+TEST(Contact, NearlyParallelRootsAreStable)
+{
+  // penetration interval endpoints computed without cancellation: the energy is monotone and
+  // smooth for angles from 1e-3 down to 1e-15 rad
+  const double L = 2e-4, gap = 0.99 * D;
+  double prev = 0.0;
+  for (int k = 3; k <= 15; k++) {
+    const double ang = std::pow(10.0, -k);
+    const Vec3 dir(std::cos(ang), std::sin(ang), 0), c(0, 0, gap);
+    auto r = segment_contact(Vec3(-L / 2, 0, 0), Vec3(L / 2, 0, 0), c - L * dir, c + L * dir, D,
+                             KN, RAMP);
+    ASSERT_TRUE(r.active);
+    if (k > 3) EXPECT_NEAR(r.energy, prev, 1e-4 * prev);
+    prev = r.energy;
+  }
+}
+
+TEST(Friction, StickBelowCapSlideAtCap)
+{
+  Vec3 slip;
+  const Vec3 n(0, 0, 1), v(1e-3, 0, 0);
+  const double kt = 1e6, fn = 0.5, mu = 0.3, dt = 1e-6;
+  // stick: the force grows as kt * slip
+  for (int i = 1; i <= 100; i++) {
+    auto r = friction_step(slip, n, v, dt, kt, fn, mu);
+    EXPECT_FALSE(r.sliding);
+    EXPECT_NEAR(r.force.x, -kt * i * dt * v.x, 1e-12 * kt * i * dt * v.x);
+  }
+  // after enough slip: capped at mu fn, opposing the motion
+  for (int i = 0; i < 1000; i++) friction_step(slip, n, v, dt, kt, fn, mu);
+  auto r = friction_step(slip, n, v, dt, kt, fn, mu);
+  EXPECT_TRUE(r.sliding);
+  EXPECT_NEAR(r.force.x, -mu * fn, 1e-14);
+  EXPECT_NEAR(NCF::norm(slip), mu * fn / kt, 1e-15);
+  // a normal velocity does not load the spring; the stored slip stays tangential
+  Vec3 s2;
+  friction_step(s2, n, Vec3(0, 0, 1.0), dt, kt, fn, mu);
+  EXPECT_EQ(NCF::norm(s2), 0.0);
+  Vec3 s3(1e-8, 0, 1e-8);
+  auto r3 = friction_step(s3, n, Vec3(), dt, kt, fn, mu);
+  EXPECT_NEAR(s3.z, 0.0, 1e-22);
+  EXPECT_NEAR(NCF::norm(s3), std::sqrt(2.0) * 1e-8, 1e-20);    // magnitude kept by the rotation
+  EXPECT_NEAR(NCF::norm(r3.force), kt * std::sqrt(2.0) * 1e-8, 1e-12);
+  EXPECT_FALSE(r3.sliding);
+  // mu = 0: no force, no history
+  Vec3 s4(1e-5, 0, 0);
+  auto r4 = friction_step(s4, n, v, dt, kt, fn, 0.0);
+  EXPECT_EQ(NCF::norm(r4.force), 0.0);
+  EXPECT_EQ(NCF::norm(s4), 0.0);
+}
