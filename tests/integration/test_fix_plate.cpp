@@ -1,0 +1,226 @@
+// Integration tests of fix ncf/plate through LAMMPS.
+
+#include "ncf_lammps_test.h"
+#include "ncf_scenes.h"
+
+#include "fmt/format.h"
+#include "lammps.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace ncftest;
+using ::testing::HasSubstr;
+
+namespace {
+
+const double D = 69e-6, A = 2e-4, KN = 2e7;
+
+// a straight chain of n nodes along x at height z, element length A, per-type mass m
+std::string write_line(const std::string &dir, int n, double z, double m)
+{
+  const std::string path = dir + "/line.data";
+  FILE *fp = fopen(path.c_str(), "w");
+  fprintf(fp, "line\n\n%d atoms\n1 atom types\n%d bonds\n1 bond types\n\n", n, n - 1);
+  fprintf(fp, "0 %.17g xlo xhi\n0 1e-3 ylo yhi\n-1e-3 2e-3 zlo zhi\n\n", (n + 2) * A);
+  fprintf(fp, "Masses\n\n1 %.17g\n\nAtoms # bond\n\n", m);
+  for (int i = 0; i < n; i++) fprintf(fp, "%d 1 1 %.17g 5e-4 %.17g\n", i + 1, (i + 1) * A, z);
+  fprintf(fp, "\nBonds\n\n");
+  for (int i = 1; i < n; i++) fprintf(fp, "%d 1 %d %d\n", i, i, i + 1);
+  fclose(fp);
+  return path;
+}
+
+const char *SETUP = R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+bond_style ncf/chain
+)";
+
+}    // namespace
+
+TEST(FixPlate, NormalForceMatchesThePenaltyLaw)
+{
+  auto dir = scratch_dir("plate_force");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 3, 30e-6, 1e-9));
+  l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.0
+run 0
+)");
+  // every node penetrates by r - z = 4.5 um; tributary lengths A/2, A, A/2: total 2 A
+  const double g = 0.5 * D - 30e-6;
+  EXPECT_NEAR(l.value("f_plate[3]"), KN * g * 2 * A, 1e-12);
+  EXPECT_NEAR(l.value("f_plate[7]"), 3.0, 0.0);
+  EXPECT_NEAR(l.value("f_plate[9]"), g, 1e-15);
+  auto f = l.forces();
+  EXPECT_NEAR(f[2], KN * g * 0.5 * A, 1e-13);
+  EXPECT_NEAR(f[5], KN * g * A, 1e-13);
+  // energy kn l g^2 / 2 summed, reported as the fix scalar
+  EXPECT_NEAR(l.value("f_plate"), 0.5 * KN * 2 * A * g * g, 1e-20);
+  // the pressure is the force over the box area (lower plate: vector element 6)
+  EXPECT_NEAR(l.value("f_plate[6]"), KN * g * 2 * A / (5 * A * 1e-3), 1e-6);
+}
+
+TEST(FixPlate, TargetMotionStopsAtTheTarget)
+{
+  auto dir = scratch_dir("plate_target");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 3, 1e-4, 1e-9));
+  l.cmds(R"(
+bond_coeff 1 ea 10
+fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.0 upper target 1e-3 5e-4 10.0
+fix nve all nve
+timestep 1e-7
+run 200
+)");
+  // 200 steps x 1e-7 s x 10 m/s = 2e-4 m
+  EXPECT_NEAR(l.value("f_plate[2]"), 1e-3 - 2e-4, 1e-15);
+  l.cmd("run 500");
+  EXPECT_EQ(l.value("f_plate[2]"), 5e-4);
+}
+
+TEST(FixPlate, CoulombFrictionSticksThenSlides)
+{
+  // a chain pressed on the lower plate by a constant force per node, pulled sideways
+  auto dir = scratch_dir("plate_friction");
+  const double m = 1e-9, press = 1e-4, mu = 0.3;
+  for (double ratio : {0.5, 1.5}) {
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + write_line(dir, 5, 34.4e-6, m));
+    l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+fix press all addforce 0 0 -1e-4
+)");
+    l.cmd(fmt::format("fix pull all addforce {} 0 0", ratio * mu * press));
+    l.cmds(R"(
+fix plate all ncf/plate kn 2e7 kt 2e7 mu 0.3 damp 20 diameter 1 69e-6 lower z 0.0
+fix nve all nve
+timestep 2e-8
+variable vx equal vcm(all,x)
+variable x0 equal xcm(all,x)
+run 0
+)");
+    const double x0 = l.value("v_x0");
+    l.cmd("run 20000");
+    const double vx = l.value("v_vx"), dx = l.value("v_x0") - x0;
+    const double ftx = l.value("f_plate[11]"), cap = mu * press * 5;
+    if (ratio < 1.0) {
+      // sticking: only the elastic slip spring moves, by about 2 P / (kt l) at most
+      EXPECT_LT(std::fabs(dx), 1e-7) << "sticking chain moved by " << dx;
+      EXPECT_LT(std::fabs(ftx), cap * (1 - 1e-6));    // below the Coulomb limit
+    } else {
+      // sliding: acceleration (ratio - 1) mu press / m per node over the sliding time
+      const double t = 20000 * 2e-8, expect = (ratio - 1.0) * mu * press / m * t;
+      EXPECT_NEAR(vx / expect, 1.0, 0.05) << "sliding velocity " << vx << " expected ~" << expect;
+      EXPECT_NEAR(ftx / -cap, 1.0, 0.02);    // the plate holds back mu Fn
+    }
+  }
+}
+
+TEST(FixPlate, RestartContinuesTheSameTrajectory)
+{
+  auto dir = scratch_dir("plate_restart");
+  auto mat = write_mat(dir, 3.0, 31);
+  const char *scene = R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+bond_style ncf/chain
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+)";
+  const char *fixes = R"(
+fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower z 0.0 upper target 0.66e-3 3e-4 5
+fix nve all nve
+fix damp all viscous 1e-7
+timestep 1e-8
+)";
+  std::vector<double> straight;
+  {
+    Lammps l;
+    l.cmds(scene);
+    l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
+    l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
+    l.cmd("include " + mat.masses);
+    l.cmds(fixes);
+    l.cmd("velocity all create 5e12 3 loop geom");
+    l.cmd("fix touch all ave/time 1 1 1 f_plate[8] ave running");
+    l.cmd("run 1500");
+    l.cmd("write_restart " + dir + "/half.restart");
+    l.cmd("run 1500");
+    straight = l.positions();
+    EXPECT_GT(l.value("f_touch"), 0.0);    // the upper plate did touch the mat
+  }
+  Lammps r;
+  r.cmd("read_restart " + dir + "/half.restart");
+  r.cmds("fix NCF_NODE all property/atom i_ncf_layer i_ncf_end\nfix MASS all property/atom rmass\n"
+         "neighbor 1e-4 bin\ncomm_modify cutoff 6e-4");
+  r.cmds(fixes);
+  r.cmd("run 1500");
+  EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
+}
+
+struct BadPlate {
+  const char *args;
+  const char *message;
+};
+
+class FixPlateErrors : public ::testing::TestWithParam<BadPlate> {};
+
+TEST_P(FixPlateErrors, NameTheProblem)
+{
+  auto dir = scratch_dir("plate_errors");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 3, 1e-4, 1e-9));
+  l.cmd("bond_coeff 1 ea 10");
+  l.cmd("variable zz atom z");
+  auto msg = error_of([&] { l.cmd(std::string("fix p all ncf/plate ") + GetParam().args); });
+  EXPECT_THAT(msg, HasSubstr(GetParam().message)) << GetParam().args;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, FixPlateErrors,
+    ::testing::Values(
+        BadPlate{"diameter 1 69e-6 lower z 0", "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required"},
+        BadPlate{"kn 2e7 diameter 1 69e-6", "fix ncf/plate: define at least one plate with 'lower' or 'upper'"},
+        BadPlate{"kn 2e7 lower z 0", "fix ncf/plate: give the chain diameter of the atom types"},
+        BadPlate{"kn -1 diameter 1 69e-6 lower z 0", "fix ncf/plate: kn must be > 0, got -1"},
+        BadPlate{"kn abc diameter 1 69e-6 lower z 0", "fix ncf/plate: value 'abc' of 'kn' is not a number"},
+        BadPlate{"kn 2e7 mu -0.1 diameter 1 69e-6 lower z 0", "fix ncf/plate: mu must be >= 0, got -0.1"},
+        BadPlate{"kn 2e7 mu 0.3 diameter 1 69e-6 lower z 0", "fix ncf/plate: friction (mu 0.3) needs a tangential stiffness 'kt' > 0"},
+        BadPlate{"kn 2e7 diameter 1 lower z 0", "fix ncf/plate: value 'lower' of 'diameter' is not a number"},
+        BadPlate{"kn 2e7 diameter 2 69e-6 lower z 0", "Numeric index 2 is out of bounds (1-1)"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 lower", "fix ncf/plate: 'lower' needs a motion"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 lower fly 3", "fix ncf/plate: unknown motion 'fly' for the lower plate"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper move 1e-3", "fix ncf/plate: 'upper move' needs more values"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper target 1e-3 0 0", "fix ncf/plate: 'upper target' needs a speed > 0"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_top", "fix ncf/plate: variable 'top' for the upper plate does not exist"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_zz", "fix ncf/plate: variable 'zz' for the upper plate is not equal-style"},
+        BadPlate{"kn 2e7 stiff 3 diameter 1 69e-6 lower z 0", "fix ncf/plate: unknown keyword 'stiff'"}));
+
+TEST(FixPlate, NodeWithoutChainBondIsAnError)
+{
+  auto dir = scratch_dir("plate_nobond");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 3, 1e-4, 1e-9));
+  l.cmds("bond_coeff 1 ea 10\ncreate_atoms 1 single 1e-4 5e-4 1e-4\nmass 1 1e-9");
+  l.cmd("fix p all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0");
+  EXPECT_THAT(error_of([&] { l.cmd("run 0"); }), HasSubstr("has no ncf/chain bond: no tributary length"));
+}
