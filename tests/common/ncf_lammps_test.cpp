@@ -44,8 +44,8 @@ Lammps::Lammps(MPI_Comm comm, const std::string &log)
     const std::string dir = std::filesystem::path(NCF_PLUGIN_FILE).parent_path().string();
     setenv("LAMMPS_PLUGIN_PATH", dir.c_str(), 1);
   }
-  std::vector<std::string> args = {"ncftest", "-log", log, "-echo", "none", "-screen", "none",
-                                   "-nocite"};
+  std::vector<std::string> args = {"ncftest", "-log",    log,    "-echo",
+                                   "none",    "-screen", "none", "-nocite"};
   std::vector<char *> argv;
   for (auto &a : args) argv.push_back(a.data());
   lmp = new LAMMPS_NS::LAMMPS((int) argv.size(), argv.data(), comm);
@@ -126,7 +126,8 @@ std::map<std::pair<long, long>, double> Lammps::reference_lengths()
       const int d = atom->iarray[idt][i][k];
       if (d == 0) continue;
       const long a = (long) atom->tag[i], b = a + d;
-      mine.insert(mine.end(), {(double) std::min(a, b), (double) std::max(a, b), atom->darray[il0][i][k]});
+      mine.insert(mine.end(),
+                  {(double) std::min(a, b), (double) std::max(a, b), atom->darray[il0][i][k]});
     }
   MPI_Comm comm = lmp->world;
   int nprocs;
@@ -136,7 +137,8 @@ std::map<std::pair<long, long>, double> Lammps::reference_lengths()
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
   for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
   std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 comm);
   for (std::size_t m = 0; m < all.size(); m += 3) {
     auto key = std::make_pair((long) all[m], (long) all[m + 1]);
     auto it = result.find(key);
@@ -180,6 +182,17 @@ int world_size()
   int s;
   MPI_Comm_size(MPI_COMM_WORLD, &s);
   return s;
+}
+
+void on_ranks(int n, const std::function<void(MPI_Comm)> &f)
+{
+  MPI_Comm comm;
+  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < n ? 0 : MPI_UNDEFINED, world_rank(), &comm);
+  if (comm != MPI_COMM_NULL) {
+    f(comm);
+    MPI_Comm_free(&comm);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 }    // namespace ncftest

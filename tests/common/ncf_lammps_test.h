@@ -64,6 +64,10 @@ double max_abs_diff(const std::vector<double> &a, const std::vector<double> &b);
 int world_rank();
 int world_size();
 
+// Runs f on a communicator of the first n ranks of MPI_COMM_WORLD (the other ranks wait), then
+// a barrier: the way the mpi tests run one scene on 1, 2 and 4 ranks.
+void on_ranks(int n, const std::function<void(MPI_Comm)> &f);
+
 }    // namespace ncftest
 
 #endif

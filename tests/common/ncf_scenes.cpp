@@ -4,15 +4,16 @@
 
 #include "ncf_scenes.h"
 
+#include "ncf_lammps_test.h"
+
 #include <cmath>
 #include <cstdio>
 #include <random>
 
 namespace ncftest {
 
-
-Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring,
-              int ny, int nz, int nel)
+Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring, int ny, int nz,
+              int nel)
 {
   Mat mat;
   mat.nchain = ny * nz;
@@ -33,7 +34,8 @@ Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring
   int id = 0;
   for (int c = 0; c < mat.nchain; c++) {
     const double th = sigma_deg > 0 ? angle(rng) : 0.0;
-    const double y0 = (c % ny + 0.5) * MAT_LY / ny + (sigma_deg > 0 ? 0.2 * MAT_LY / ny * jitter(rng) : 0.0);
+    const double y0 =
+        (c % ny + 0.5) * MAT_LY / ny + (sigma_deg > 0 ? 0.2 * MAT_LY / ny * jitter(rng) : 0.0);
     const double z0 = 0.3e-3 + (c / ny) * 0.15e-3;
     for (int j = 0; j < mat.nper; j++) {
       double x = j * a, y = y0 + j * a * std::tan(th);
@@ -72,8 +74,38 @@ std::vector<int> face_codes(const Mat &mat, bool ring)
 {
   std::vector<int> code;
   for (int c = 0; c < mat.nchain; c++)
-    for (int j = 0; j < mat.nper; j++) code.push_back(ring ? 0 : (j == 0 ? 1 : (j == mat.nper - 1 ? 2 : 0)));
+    for (int j = 0; j < mat.nper; j++)
+      code.push_back(ring ? 0 : (j == 0 ? 1 : (j == mat.nper - 1 ? 2 : 0)));
   return code;
+}
+
+void load_mat(Lammps &l, const Mat &mat)
+{
+  l.cmds(R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+newton on
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+bond_style ncf/chain
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+)");
+  l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
+  l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
+  l.cmd("include " + mat.masses);
+  l.cmd("variable isend atom i_ncf_end>0");
+  l.cmd("group ends variable isend");
+}
+
+Mat mat_files(const std::string &dir, bool ring)
+{
+  Mat mat;
+  mat.path = dir + (ring ? "/ring.data" : "/mat.data");
+  mat.masses = dir + (ring ? "/ring_masses.in" : "/masses.in");
+  return mat;
 }
 
 }    // namespace ncftest

@@ -28,6 +28,14 @@ Mat write_mat(const std::string &dir, double sigma_deg, unsigned seed, bool ring
 // face code of every atom of a mat, in tag order
 std::vector<int> face_codes(const Mat &mat, bool ring = false);
 
+class Lammps;
+// Reads a mat into an empty LAMMPS instance (units si, bond ncf/chain with the CT24 chain,
+// lumped per-atom masses, p p f box) and defines the group "ends" of its end nodes.
+void load_mat(Lammps &l, const Mat &mat);
+
+// The same scene for every rank count: the data file names of a mat written by rank 0 into dir.
+Mat mat_files(const std::string &dir, bool ring = false);
+
 }    // namespace ncftest
 
 #endif

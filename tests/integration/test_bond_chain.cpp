@@ -39,7 +39,8 @@ std::string write_chain_data(const std::string &dir, int n, double a, double l0,
   for (int i = 1; i < n; i++) fprintf(fp, "%d 1 %d %d\n", i, i, i + 1);
   if (with_l0) {
     fprintf(fp, "\nNCF_CHAIN_L0\n\n");
-    for (int i = 1; i <= n; i++) fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0 : 0.0);
+    for (int i = 1; i <= n; i++)
+      fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0 : 0.0);
   }
   fclose(fp);
   return path;
@@ -115,7 +116,8 @@ TEST(BondChain, FiniteDifferenceForce)
       const double em = l.value("ebond");
       l.cmd(fmt::format("set atom {} {:c} {:.17g}", i, "xyz"[d], xi));
       const double fd = -(ep - em) / (2 * h);
-      EXPECT_NEAR(f[3 * (i - 1) + d], fd, 1e-5 * std::fabs(fd) + 1e-6) << "atom " << i << " dim " << d;
+      EXPECT_NEAR(f[3 * (i - 1) + d], fd, 1e-5 * std::fabs(fd) + 1e-6)
+          << "atom " << i << " dim " << d;
     }
 }
 
@@ -154,7 +156,8 @@ fix nve free nve
   const double t = steps * 0.5 * dtc;
   const double measured = front * a / t;
   EXPECT_NEAR(measured / c, 1.0, 0.02) << "front at node " << front << ", c = " << c;
-  std::printf("[measured] wave speed %.6g m/s, sqrt(E/rho) %.6g m/s, ratio %.5f\n", measured, c, measured / c);
+  std::printf("[measured] wave speed %.6g m/s, sqrt(E/rho) %.6g m/s, ratio %.5f\n", measured, c,
+              measured / c);
 }
 
 TEST(BondChain, UndampedVibrationConservesEnergy)
@@ -167,11 +170,13 @@ TEST(BondChain, UndampedVibrationConservesEnergy)
   // end nodes carry half the mass of interior nodes (lumped masses): per-atom masses
   Lammps l;
   l.cmds(SETUP);
-  l.cmd("read_data " + write_chain_data(dir, n, a, a, rho * A * a) + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("read_data " + write_chain_data(dir, n, a, a, rho * A * a) +
+        " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
   l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
   const double L = (n - 1) * a;
   for (int i = 0; i < n; i++)
-    l.cmd(fmt::format("set atom {} x {:.17g} y {:.17g}", i + 1, i * a + 1e-3 * a * std::cos(M_PI * i * a / L),
+    l.cmd(fmt::format("set atom {} x {:.17g} y {:.17g}", i + 1,
+                      i * a + 1e-3 * a * std::cos(M_PI * i * a / L),
                       1e-4 * a * std::sin(2 * M_PI * i / (n - 1))));
   l.cmds(R"(
 fix nve all nve
@@ -198,11 +203,13 @@ thermo_style custom step pe ke v_etot
   }
   EXPECT_GT(first, 0.0);
   EXPECT_LT(std::fabs(last - first) / first, 1e-6) << "first " << first << " last " << last;
-  std::printf("[measured] relative energy drift over 1e4 steps at dt_c/2: %.3g\n", std::fabs(last - first) / first);
+  std::printf("[measured] relative energy drift over 1e4 steps at dt_c/2: %.3g\n",
+              std::fabs(last - first) / first);
 }
 
 namespace {
-std::map<std::pair<long, long>, double> random_chain_setup(Lammps &l, const std::string &dir, int seed)
+std::map<std::pair<long, long>, double> random_chain_setup(Lammps &l, const std::string &dir,
+                                                           int seed)
 {
   // chain with irregular reference lengths (no two alike) to see any rounding
   std::mt19937 rng(seed);
@@ -211,7 +218,9 @@ std::map<std::pair<long, long>, double> random_chain_setup(Lammps &l, const std:
   const std::string path = dir + "/irregular.data";
   FILE *fp = fopen(path.c_str(), "w");
   fprintf(fp, "irregular\n\n%d atoms\n2 atom types\n%d bonds\n2 bond types\n\n", n, n - 1);
-  fprintf(fp, "0 4e-3 xlo xhi\n-1e-3 1e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\nMasses\n\n1 1e-9\n2 2e-9\n\nAtoms # bond\n\n");
+  fprintf(fp,
+          "0 4e-3 xlo xhi\n-1e-3 1e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\nMasses\n\n1 1e-9\n2 "
+          "2e-9\n\nAtoms # bond\n\n");
   double x = 1e-4;
   std::vector<double> l0(n);
   for (int i = 0; i < n; i++) {
@@ -222,7 +231,8 @@ std::map<std::pair<long, long>, double> random_chain_setup(Lammps &l, const std:
   fprintf(fp, "\nBonds\n\n");
   for (int i = 1; i < n; i++) fprintf(fp, "%d %d %d %d\n", i, 1 + i % 2, i, i + 1);
   fprintf(fp, "\nNCF_CHAIN_L0\n\n");
-  for (int i = 1; i <= n; i++) fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0[i - 1] : 0.0);
+  for (int i = 1; i <= n; i++)
+    fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0[i - 1] : 0.0);
   fclose(fp);
   l.cmds(SETUP);
   l.cmd("read_data " + path + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
@@ -250,7 +260,8 @@ TEST(BondChain, ReferenceLengthsSurviveRestartBitForBit)
   r.cmd("run 0");
   auto got = r.reference_lengths();
   ASSERT_EQ(got.size(), expect.size());
-  for (auto &kv : expect) EXPECT_EQ(got.at(kv.first), kv.second) << kv.first.first << "-" << kv.first.second;
+  for (auto &kv : expect)
+    EXPECT_EQ(got.at(kv.first), kv.second) << kv.first.first << "-" << kv.first.second;
   // coefficients come back too
   auto *bond = r.lmp->force->bond;
   int dim;
@@ -315,7 +326,8 @@ TEST(BondChain, AppendedDataKeepsItsReferenceLengths)
   auto data = write_chain_data(dir, 5, 2e-4, 1.9e-4, 1e-9, true, 2e-3);
   Lammps l;
   l.cmds(SETUP);
-  l.cmd("read_data " + data + " extra/bond/per/atom 2 extra/special/per/atom 4 fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("read_data " + data +
+        " extra/bond/per/atom 2 extra/special/per/atom 4 fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
   l.cmd("read_data " + data + " add append shift 0 5e-4 0 fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
   l.cmd("bond_coeff 1 ea 1.0");
   auto got = l.reference_lengths();
@@ -348,7 +360,8 @@ TEST(BondChain, ShrinkByFixAdaptPullsTheChainTogether)
   auto dir = scratch_dir("bond_shrink");
   Lammps l;
   l.cmds(SETUP);
-  l.cmd("read_data " + write_chain_data(dir, 2, 2e-4, 2e-4, 1e-9) + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("read_data " + write_chain_data(dir, 2, 2e-4, 2e-4, 1e-9) +
+        " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
   l.cmds(R"(
 bond_coeff 1 ea 10.0
 variable s equal ramp(0.0,0.16)
@@ -378,7 +391,9 @@ TEST(BondChain, TimestepAboveCriticalIsRefusedWithTheNumbers)
     l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
     l.cmd("fix nve all nve");
     l.cmd(fmt::format("timestep {}", 1.05 * dtc));
-    auto msg = error_of([&] { l.cmd("run 10"); });
+    auto msg = error_of([&] {
+      l.cmd("run 10");
+    });
     EXPECT_THAT(msg, HasSubstr("bond ncf/chain: timestep"));
     EXPECT_THAT(msg, HasSubstr("is above the critical time step"));
     EXPECT_THAT(msg, HasSubstr(fmt::format("{:.6g}", dtc)));
@@ -398,7 +413,10 @@ TEST(BondChain, TimestepAboveCriticalIsRefusedWithTheNumbers)
     l.cmd(fmt::format("bond_coeff 1 modulus {} diameter {}", E, d));
     l.cmd("fix nve all nve");
     l.cmd(fmt::format("timestep {}", 1.05 * dtc));
-    EXPECT_EQ(error_of([&] { l.cmd("run 1"); }), "");
+    EXPECT_EQ(error_of([&] {
+                l.cmd("run 1");
+              }),
+              "");
   }
 }
 
@@ -431,30 +449,44 @@ TEST_P(BondChainErrors, NameTheProblem)
   Lammps l;
   l.cmds(SETUP);
   l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
-  auto msg = error_of([&] { l.cmd(GetParam().command); });
+  auto msg = error_of([&] {
+    l.cmd(GetParam().command);
+  });
   EXPECT_THAT(msg, HasSubstr(GetParam().message)) << "command: " << GetParam().command;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Table, BondChainErrors,
     ::testing::Values(
-        BadLine{"bond_style ncf/chain dtcheck", "bond_style ncf/chain: keyword 'dtcheck' needs a value"},
-        BadLine{"bond_style ncf/chain dtcheck maybe", "bond_style ncf/chain: dtcheck 'maybe' is not one of error, warn, no"},
+        BadLine{"bond_style ncf/chain dtcheck",
+                "bond_style ncf/chain: keyword 'dtcheck' needs a value"},
+        BadLine{"bond_style ncf/chain dtcheck maybe",
+                "bond_style ncf/chain: dtcheck 'maybe' is not one of error, warn, no"},
         BadLine{"bond_style ncf/chain stiff 3", "bond_style ncf/chain: unknown keyword 'stiff'"},
-        BadLine{"bond_coeff 1", "bond_coeff ncf/chain: expected 'N ea EA' or 'N modulus E diameter d'"},
+        BadLine{"bond_coeff 1",
+                "bond_coeff ncf/chain: expected 'N ea EA' or 'N modulus E diameter d'"},
         BadLine{"bond_coeff 1 ea", "bond_coeff ncf/chain: expected"},
-        BadLine{"bond_coeff 1 ea 10 shrink", "bond_coeff ncf/chain: keyword 'shrink' needs a value"},
+        BadLine{"bond_coeff 1 ea 10 shrink",
+                "bond_coeff ncf/chain: keyword 'shrink' needs a value"},
         BadLine{"bond_coeff 1 ea -10", "bond_coeff ncf/chain: ea must be > 0, got -10"},
         BadLine{"bond_coeff 1 ea abc", "bond_coeff ncf/chain: value 'abc' of 'ea' is not a number"},
-        BadLine{"bond_coeff 1 ea 10 shrink 1.0", "bond_coeff ncf/chain: shrink must be in [0, 1), got 1.0"},
-        BadLine{"bond_coeff 1 ea 10 shrink -0.1", "bond_coeff ncf/chain: shrink must be in [0, 1), got -0.1"},
-        BadLine{"bond_coeff 1 ea 10 compression 2", "bond_coeff ncf/chain: compression must be in [0, 1], got 2"},
+        BadLine{"bond_coeff 1 ea 10 shrink 1.0",
+                "bond_coeff ncf/chain: shrink must be in [0, 1), got 1.0"},
+        BadLine{"bond_coeff 1 ea 10 shrink -0.1",
+                "bond_coeff ncf/chain: shrink must be in [0, 1), got -0.1"},
+        BadLine{"bond_coeff 1 ea 10 compression 2",
+                "bond_coeff ncf/chain: compression must be in [0, 1], got 2"},
         BadLine{"bond_coeff 1 ea 10 colour red", "bond_coeff ncf/chain: unknown keyword 'colour'"},
         BadLine{"bond_coeff 1 modulus 1e9", "give 'ea' or both 'modulus' and 'diameter'"},
-        BadLine{"bond_coeff 1 modulus 1e9 shrink 0.1", "no axial stiffness for bond type(s) 1: give 'ea' or both 'modulus' and 'diameter'"},
-        BadLine{"bond_coeff 1 modulus 0 diameter 1e-5", "bond_coeff ncf/chain: modulus must be > 0, got 0"},
-        BadLine{"bond_coeff 1 modulus 1e9 diameter -1", "bond_coeff ncf/chain: diameter must be > 0, got -1"},
-        BadLine{"bond_coeff 1 ea 5 modulus 1e9 diameter 1e-5", "give either 'ea' or 'modulus' with 'diameter', not both"},
+        BadLine{
+            "bond_coeff 1 modulus 1e9 shrink 0.1",
+            "no axial stiffness for bond type(s) 1: give 'ea' or both 'modulus' and 'diameter'"},
+        BadLine{"bond_coeff 1 modulus 0 diameter 1e-5",
+                "bond_coeff ncf/chain: modulus must be > 0, got 0"},
+        BadLine{"bond_coeff 1 modulus 1e9 diameter -1",
+                "bond_coeff ncf/chain: diameter must be > 0, got -1"},
+        BadLine{"bond_coeff 1 ea 5 modulus 1e9 diameter 1e-5",
+                "give either 'ea' or 'modulus' with 'diameter', not both"},
         BadLine{"bond_coeff 2 ea 5", "Numeric index 2 is out of bounds (1-1)"},
         BadLine{"run 0", "Bond coeffs are not set"}));
 
@@ -465,7 +497,10 @@ TEST(BondChain, AutoLoadedPluginSurvivesClear)
   l.cmd("clear");
   // after clear, LAMMPS_PLUGIN_PATH auto-loads the plugin again: the style is still known
   l.cmds("units si\natom_style bond");
-  EXPECT_EQ(error_of([&] { l.cmd("bond_style ncf/chain"); }), "");
+  EXPECT_EQ(error_of([&] {
+              l.cmd("bond_style ncf/chain");
+            }),
+            "");
 }
 
 TEST(BondChain, UnknownStyleWithoutPluginIsAnError)
@@ -474,5 +509,8 @@ TEST(BondChain, UnknownStyleWithoutPluginIsAnError)
   Lammps l;
   l.cmd("plugin unload bond ncf/chain");
   l.cmds("units si\natom_style bond");
-  EXPECT_THAT(error_of([&] { l.cmd("bond_style ncf/chain"); }), HasSubstr("Unrecognized bond style 'ncf/chain'"));
+  EXPECT_THAT(error_of([&] {
+                l.cmd("bond_style ncf/chain");
+              }),
+              HasSubstr("Unrecognized bond style 'ncf/chain'"));
 }

@@ -15,8 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <random>
+#include <sstream>
 
 using namespace ncftest;
 using ::testing::HasSubstr;
@@ -24,28 +24,6 @@ using ::testing::HasSubstr;
 namespace {
 
 const double LX = MAT_LX;
-
-const char *SETUP = R"(
-units si
-atom_style bond
-atom_modify map array
-boundary p p f
-newton on
-neighbor 1e-4 bin
-comm_modify cutoff 6e-4
-bond_style ncf/chain
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
-fix MASS all property/atom rmass
-)";
-
-void load(Lammps &l, const Mat &mat, const std::string &dir)
-{
-  l.cmds(SETUP);
-  l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
-  l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
-  l.cmd("include " + mat.masses);
-  l.cmd("group ends variable isend");
-}
 
 // independent evaluation of the averaged constraint from the gathered positions: groups from the
 // kernel with the reference positions, then sum_i w_i X_i - F D_g for every group
@@ -92,8 +70,7 @@ TEST(FixPBC, AveragedConstraintHoldsOver10kSteps)
   auto dir = scratch_dir("pbc_hold");
   auto mat = write_mat(dir, 3.0, 11);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
+  load_mat(l, mat);
   auto xref = l.positions();
   double href[6], h[6];
   box_h(l, href);
@@ -108,7 +85,8 @@ thermo_style custom step pe ke f_pbc
   auto x = l.positions();
   box_h(l, h);
   const double err = constraint_error(xref, x, face_codes(mat), href, h);
-  std::printf("[measured] averaged PBC error after 1e4 steps: %.3g m (%.3g of the box)\n", err, err / LX);
+  std::printf("[measured] averaged PBC error after 1e4 steps: %.3g m (%.3g of the box)\n", err,
+              err / LX);
   EXPECT_LT(err, 1e-10 * LX);
   // the fix reports the same order of magnitude
   EXPECT_LT(l.value("f_pbc"), 1e-10 * LX);
@@ -121,8 +99,7 @@ TEST(FixPBC, ConstraintFollowsABoxDeformation)
   auto dir = scratch_dir("pbc_deform");
   auto mat = write_mat(dir, 3.0, 12);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
+  load_mat(l, mat);
   l.cmd("change_box all triclinic");
   auto xref = l.positions();
   double href[6], h[6];
@@ -140,7 +117,8 @@ run 10000
   EXPECT_NEAR(h[0], LX * 1.01, 1e-12);    // 1 % stretch happened
   EXPECT_GT(std::fabs(h[5]), 1e-5);       // and a shear
   const double err = constraint_error(xref, x, face_codes(mat), href, h);
-  std::printf("[measured] averaged PBC error with box deformation: %.3g m (%.3g of the box)\n", err, err / LX);
+  std::printf("[measured] averaged PBC error with box deformation: %.3g m (%.3g of the box)\n", err,
+              err / LX);
   EXPECT_LT(err, 1e-10 * LX);
 }
 
@@ -149,8 +127,7 @@ TEST(FixPBC, ConservesMomentum)
   auto dir = scratch_dir("pbc_momentum");
   auto mat = write_mat(dir, 3.0, 13);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
+  load_mat(l, mat);
   l.cmds(R"(
 velocity all create 5e12 5 loop geom mom yes
 fix nve all nve
@@ -181,22 +158,21 @@ TEST(FixPBC, WithoutVariabilityItIsOrdinaryPeriodicity)
       for (int j = 0; j < mat.nper; j++) {
         const int id = c * mat.nper + j + 1;
         const double s = std::sin(2 * M_PI * j / 10.0 + c);
-        l.cmd(fmt::format("set atom {} vx {:.17g} vy {:.17g} vz {:.17g}", id, 0.3 * s, 0.5 * s, 0.2 * std::cos(c + 2 * M_PI * j / 10.0)));
+        l.cmd(fmt::format("set atom {} vx {:.17g} vy {:.17g} vz {:.17g}", id, 0.3 * s, 0.5 * s,
+                          0.2 * std::cos(c + 2 * M_PI * j / 10.0)));
       }
   };
   std::vector<double> xo, xr, xr0;
   {
     Lammps l;
-    l.cmd("variable isend atom i_ncf_end>0");
-    load(l, open, dir);
+    load_mat(l, open);
     perturb(l, open);
     l.cmds("fix nve all nve\nfix pbc ends ncf/pbc faces x\ntimestep 5e-9\nrun 3000");
     xo = l.positions();
   }
   {
     Lammps l;
-    l.cmd("variable isend atom i_ncf_end>0");
-    load(l, ring, dir);
+    load_mat(l, ring);
     perturb(l, ring);
     xr0 = l.positions();
     l.cmds("fix nve all nve\ntimestep 5e-9\nrun 3000");
@@ -223,8 +199,7 @@ TEST(FixPBC, RestartContinuesTheSameTrajectory)
   std::vector<double> straight;
   {
     Lammps l;
-    l.cmd("variable isend atom i_ncf_end>0");
-    load(l, mat, dir);
+    load_mat(l, mat);
     l.cmds(R"(
 velocity all create 5e12 5 loop geom
 fix nve all nve
@@ -243,8 +218,6 @@ fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
 fix MASS all property/atom rmass
 neighbor 1e-4 bin
 comm_modify cutoff 6e-4
-variable isend atom i_ncf_end>0
-group ends variable isend
 fix nve all nve
 fix pbc ends ncf/pbc faces x
 timestep 5e-9
@@ -258,8 +231,7 @@ TEST(FixPBC, MinimizationKeepsTheConstraint)
   auto dir = scratch_dir("pbc_min");
   auto mat = write_mat(dir, 3.0, 15);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
+  load_mat(l, mat);
   auto xref = l.positions();
   double href[6];
   box_h(l, href);
@@ -289,9 +261,10 @@ TEST_P(FixPBCErrors, NameTheProblem)
   auto dir = scratch_dir("pbc_errors");
   auto mat = write_mat(dir, 3.0, 16);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
-  auto msg = error_of([&] { l.cmd(GetParam().command); });
+  load_mat(l, mat);
+  auto msg = error_of([&] {
+    l.cmd(GetParam().command);
+  });
   EXPECT_THAT(msg, HasSubstr(GetParam().message)) << GetParam().command;
 }
 
@@ -300,23 +273,28 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadPbc{"fix p ends ncf/pbc faces z", "fix ncf/pbc: faces 'z' is not one of x, y, xy"},
         BadPbc{"fix p ends ncf/pbc faces", "fix ncf/pbc: keyword 'faces' needs 1 value(s)"},
-        BadPbc{"fix p ends ncf/pbc endface ncf_end", "fix ncf/pbc: endface 'ncf_end' must be 'auto' or a per-atom integer i_NAME"},
-        BadPbc{"fix p ends ncf/pbc endface i_nothing", "fix ncf/pbc: no per-atom integer i_nothing"},
+        BadPbc{"fix p ends ncf/pbc endface ncf_end",
+               "fix ncf/pbc: endface 'ncf_end' must be 'auto' or a per-atom integer i_NAME"},
+        BadPbc{"fix p ends ncf/pbc endface i_nothing",
+               "fix ncf/pbc: no per-atom integer i_nothing"},
         BadPbc{"fix p ends ncf/pbc xcells 0 2", "fix ncf/pbc: xcells values must be >= 1, got 0"},
         BadPbc{"fix p ends ncf/pbc xcells 4", "fix ncf/pbc: keyword 'xcells' needs 2 value(s)"},
         BadPbc{"fix p ends ncf/pbc stiffness 3", "fix ncf/pbc: unknown keyword 'stiffness'"},
-        BadPbc{"fix p ends ncf/pbc faces y", "fix ncf/pbc: no end node of group ends lies on the y faces"},
-        BadPbc{"fix p ends ncf/pbc faces xy", "fix ncf/pbc: no end node of group ends lies on the y faces"}));
+        BadPbc{"fix p ends ncf/pbc faces y",
+               "fix ncf/pbc: no end node of group ends lies on the y faces"},
+        BadPbc{"fix p ends ncf/pbc faces xy",
+               "fix ncf/pbc: no end node of group ends lies on the y faces"}));
 
 TEST(FixPBC, NonPeriodicDirectionIsRefused)
 {
   auto dir = scratch_dir("pbc_nonperiodic");
   auto mat = write_mat(dir, 3.0, 17);
   Lammps l;
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
+  load_mat(l, mat);
   l.cmd("change_box all boundary f p f");
-  EXPECT_THAT(error_of([&] { l.cmd("fix p ends ncf/pbc faces x"); }),
+  EXPECT_THAT(error_of([&] {
+                l.cmd("fix p ends ncf/pbc faces x");
+              }),
               HasSubstr("fix ncf/pbc: faces x need a periodic box in x"));
 }
 
@@ -325,12 +303,13 @@ TEST(FixPBC, LaterFixChangingForcesIsReported)
   auto dir = scratch_dir("pbc_order");
   auto mat = write_mat(dir, 3.0, 18);
   Lammps l(MPI_COMM_WORLD, dir + "/log.lammps");
-  l.cmd("variable isend atom i_ncf_end>0");
-  load(l, mat, dir);
-  l.cmds("fix nve all nve\nfix pbc ends ncf/pbc faces x\nfix sf ends setforce 0 0 NULL\ntimestep 5e-9\nrun 0");
+  load_mat(l, mat);
+  l.cmds("fix nve all nve\nfix pbc ends ncf/pbc faces x\nfix sf ends setforce 0 0 NULL\ntimestep "
+         "5e-9\nrun 0");
   l.cmd("log none");
   std::ifstream in(dir + "/log.lammps");
   std::stringstream text;
   text << in.rdbuf();
-  EXPECT_THAT(text.str(), HasSubstr("fix ncf/pbc: fix sf (setforce) changes forces after fix ncf/pbc"));
+  EXPECT_THAT(text.str(),
+              HasSubstr("fix ncf/pbc: fix sf (setforce) changes forces after fix ncf/pbc"));
 }

@@ -133,17 +133,6 @@ TEST(FixPlate, RestartContinuesTheSameTrajectory)
 {
   auto dir = scratch_dir("plate_restart");
   auto mat = write_mat(dir, 3.0, 31);
-  const char *scene = R"(
-units si
-atom_style bond
-atom_modify map array
-boundary p p f
-neighbor 1e-4 bin
-comm_modify cutoff 6e-4
-bond_style ncf/chain
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
-fix MASS all property/atom rmass
-)";
   const char *fixes = R"(
 fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower z 0.0 upper target 0.66e-3 3e-4 5
 fix nve all nve
@@ -153,10 +142,7 @@ timestep 1e-8
   std::vector<double> straight;
   {
     Lammps l;
-    l.cmds(scene);
-    l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
-    l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
-    l.cmd("include " + mat.masses);
+    load_mat(l, mat);
     l.cmds(fixes);
     l.cmd("velocity all create 5e12 3 loop geom");
     l.cmd("fix touch all ave/time 1 1 1 f_plate[8] ave running");
@@ -190,29 +176,43 @@ TEST_P(FixPlateErrors, NameTheProblem)
   l.cmd("read_data " + write_line(dir, 3, 1e-4, 1e-9));
   l.cmd("bond_coeff 1 ea 10");
   l.cmd("variable zz atom z");
-  auto msg = error_of([&] { l.cmd(std::string("fix p all ncf/plate ") + GetParam().args); });
+  auto msg = error_of([&] {
+    l.cmd(std::string("fix p all ncf/plate ") + GetParam().args);
+  });
   EXPECT_THAT(msg, HasSubstr(GetParam().message)) << GetParam().args;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Table, FixPlateErrors,
     ::testing::Values(
-        BadPlate{"diameter 1 69e-6 lower z 0", "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required"},
-        BadPlate{"kn 2e7 diameter 1 69e-6", "fix ncf/plate: define at least one plate with 'lower' or 'upper'"},
+        BadPlate{"diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required"},
+        BadPlate{"kn 2e7 diameter 1 69e-6",
+                 "fix ncf/plate: define at least one plate with 'lower' or 'upper'"},
         BadPlate{"kn 2e7 lower z 0", "fix ncf/plate: give the chain diameter of the atom types"},
         BadPlate{"kn -1 diameter 1 69e-6 lower z 0", "fix ncf/plate: kn must be > 0, got -1"},
-        BadPlate{"kn abc diameter 1 69e-6 lower z 0", "fix ncf/plate: value 'abc' of 'kn' is not a number"},
-        BadPlate{"kn 2e7 mu -0.1 diameter 1 69e-6 lower z 0", "fix ncf/plate: mu must be >= 0, got -0.1"},
-        BadPlate{"kn 2e7 mu 0.3 diameter 1 69e-6 lower z 0", "fix ncf/plate: friction (mu 0.3) needs a tangential stiffness 'kt' > 0"},
-        BadPlate{"kn 2e7 diameter 1 lower z 0", "fix ncf/plate: value 'lower' of 'diameter' is not a number"},
+        BadPlate{"kn abc diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: value 'abc' of 'kn' is not a number"},
+        BadPlate{"kn 2e7 mu -0.1 diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: mu must be >= 0, got -0.1"},
+        BadPlate{"kn 2e7 mu 0.3 diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: friction (mu 0.3) needs a tangential stiffness 'kt' > 0"},
+        BadPlate{"kn 2e7 diameter 1 lower z 0",
+                 "fix ncf/plate: value 'lower' of 'diameter' is not a number"},
         BadPlate{"kn 2e7 diameter 2 69e-6 lower z 0", "Numeric index 2 is out of bounds (1-1)"},
         BadPlate{"kn 2e7 diameter 1 69e-6 lower", "fix ncf/plate: 'lower' needs a motion"},
-        BadPlate{"kn 2e7 diameter 1 69e-6 lower fly 3", "fix ncf/plate: unknown motion 'fly' for the lower plate"},
-        BadPlate{"kn 2e7 diameter 1 69e-6 upper move 1e-3", "fix ncf/plate: 'upper move' needs more values"},
-        BadPlate{"kn 2e7 diameter 1 69e-6 upper target 1e-3 0 0", "fix ncf/plate: 'upper target' needs a speed > 0"},
-        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_top", "fix ncf/plate: variable 'top' for the upper plate does not exist"},
-        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_zz", "fix ncf/plate: variable 'zz' for the upper plate is not equal-style"},
-        BadPlate{"kn 2e7 stiff 3 diameter 1 69e-6 lower z 0", "fix ncf/plate: unknown keyword 'stiff'"}));
+        BadPlate{"kn 2e7 diameter 1 69e-6 lower fly 3",
+                 "fix ncf/plate: unknown motion 'fly' for the lower plate"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper move 1e-3",
+                 "fix ncf/plate: 'upper move' needs more values"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper target 1e-3 0 0",
+                 "fix ncf/plate: 'upper target' needs a speed > 0"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_top",
+                 "fix ncf/plate: variable 'top' for the upper plate does not exist"},
+        BadPlate{"kn 2e7 diameter 1 69e-6 upper v_zz",
+                 "fix ncf/plate: variable 'zz' for the upper plate is not equal-style"},
+        BadPlate{"kn 2e7 stiff 3 diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: unknown keyword 'stiff'"}));
 
 TEST(FixPlate, NodeWithoutChainBondIsAnError)
 {
@@ -222,5 +222,8 @@ TEST(FixPlate, NodeWithoutChainBondIsAnError)
   l.cmd("read_data " + write_line(dir, 3, 1e-4, 1e-9));
   l.cmds("bond_coeff 1 ea 10\ncreate_atoms 1 single 1e-4 5e-4 1e-4\nmass 1 1e-9");
   l.cmd("fix p all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0");
-  EXPECT_THAT(error_of([&] { l.cmd("run 0"); }), HasSubstr("has no ncf/chain bond: no tributary length"));
+  EXPECT_THAT(error_of([&] {
+                l.cmd("run 0");
+              }),
+              HasSubstr("has no ncf/chain bond: no tributary length"));
 }

@@ -73,12 +73,9 @@ struct Result {
 Result run_on(int nranks, const std::string &data)
 {
   Result res;
-  MPI_Comm comm;
-  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < nranks ? 0 : MPI_UNDEFINED, world_rank(), &comm);
-  if (comm != MPI_COMM_NULL) {
-    {
-      Lammps l(comm);
-      l.cmds(R"(
+  on_ranks(nranks, [&](MPI_Comm comm) {
+    Lammps l(comm);
+    l.cmds(R"(
 units si
 atom_style bond
 newton on
@@ -86,10 +83,10 @@ boundary p p p
 comm_modify cutoff 6e-4
 bond_style ncf/chain
 )");
-      l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
-      res.nprocs = l.lmp->comm->nprocs;
-      res.x0 = l.positions();
-      l.cmds(R"(
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    res.nprocs = l.lmp->comm->nprocs;
+    res.x0 = l.positions();
+    l.cmds(R"(
 bond_coeff 1 modulus 120e9 diameter 69e-6
 bond_coeff 2 modulus 1.81e9 diameter 88e-6 shrink 0.02
 velocity all create 1e-3 7 loop geom
@@ -97,12 +94,9 @@ fix nve all nve
 timestep 5e-9
 run 1000
 )");
-      res.x = l.positions();
-      res.l0 = l.reference_lengths();
-    }
-    MPI_Comm_free(&comm);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+    res.x = l.positions();
+    res.l0 = l.reference_lengths();
+  });
   return res;
 }
 

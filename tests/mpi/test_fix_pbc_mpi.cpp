@@ -22,31 +22,12 @@ struct Result {
 Result run_on(int nranks, const Mat &mat)
 {
   Result res;
-  MPI_Comm comm;
-  MPI_Comm_split(MPI_COMM_WORLD, world_rank() < nranks ? 0 : MPI_UNDEFINED, world_rank(), &comm);
-  if (comm != MPI_COMM_NULL) {
-    {
-      Lammps l(comm);
-      l.cmds(R"(
-units si
-atom_style bond
-atom_modify map array
-boundary p p f
-newton on
-neighbor 1e-4 bin
-comm_modify cutoff 6e-4
-bond_style ncf/chain
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
-fix MASS all property/atom rmass
-)");
-      l.cmd("read_data " + mat.path + " fix NCF_NODE NULL NCF_NODE");
-      l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
-      l.cmd("include " + mat.masses);
-      res.nprocs = l.lmp->comm->nprocs;
-      res.x0 = l.positions();
-      l.cmds(R"(
-variable isend atom i_ncf_end>0
-group ends variable isend
+  on_ranks(nranks, [&](MPI_Comm comm) {
+    Lammps l(comm);
+    load_mat(l, mat);
+    res.nprocs = l.lmp->comm->nprocs;
+    res.x0 = l.positions();
+    l.cmds(R"(
 change_box all triclinic
 velocity all create 5e12 5 loop geom
 fix nve all nve
@@ -55,11 +36,8 @@ fix pbc ends ncf/pbc faces x
 timestep 5e-9
 run 2000
 )");
-      res.x = l.positions();
-    }
-    MPI_Comm_free(&comm);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+    res.x = l.positions();
+  });
   return res;
 }
 
@@ -69,12 +47,9 @@ TEST(FixPBCMPI, SameTrajectoryOn124Ranks)
 {
   ASSERT_GE(world_size(), 4) << "run this test with mpirun -np 4";
   auto dir = scratch_dir("mpi_pbc");
-  Mat mat;
-  if (world_rank() == 0) mat = write_mat(dir, 3.0, 21, false, 12, 3, 16);
+  if (world_rank() == 0) write_mat(dir, 3.0, 21, false, 12, 3, 16);
   MPI_Barrier(MPI_COMM_WORLD);
-  // every rank rebuilds the names (the files were written by rank 0)
-  mat.path = dir + "/mat.data";
-  mat.masses = dir + "/masses.in";
+  const Mat mat = mat_files(dir);
 
   Result r1 = run_on(1, mat), r2 = run_on(2, mat), r4 = run_on(4, mat);
   if (world_rank() != 0) return;
@@ -83,7 +58,9 @@ TEST(FixPBCMPI, SameTrajectoryOn124Ranks)
   EXPECT_EQ(r4.nprocs, 4);
   EXPECT_GT(max_abs_diff(r1.x, r1.x0), 1e-7);
   const double d2 = max_abs_diff(r1.x, r2.x), d4 = max_abs_diff(r1.x, r4.x);
-  std::printf("[measured] fix ncf/pbc: max |x1 - x2| = %.3g m, max |x1 - x4| = %.3g m (box 2e-3 m)\n", d2, d4);
+  std::printf(
+      "[measured] fix ncf/pbc: max |x1 - x2| = %.3g m, max |x1 - x4| = %.3g m (box 2e-3 m)\n", d2,
+      d4);
   EXPECT_LE(d2, 1e-12 * MAT_LX);
   EXPECT_LE(d4, 1e-12 * MAT_LX);
 }
