@@ -238,24 +238,57 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       }
     }
     if (!placed) {
-      // first fit: each chain (in the order of its start point) at the lowest height where it
-      // keeps the contact diameter from every chain placed before it
+      // first fit: each chain, in the order of its angle (nearly parallel chains first fill the
+      // bottom like a mat; ties by start point), at the lowest height where it keeps the contact
+      // diameter from every chain placed before it (this order gave stacks 10-25 % thinner than
+      // the order of the start points or random orders); then "gravity" sweeps
+      // (top chain first, each one dropped to the lowest height free of all others) until no
+      // chain moves. Conflicts (pairs closer than d_c in projection) are found once.
       const double zmin = base + r1;
-      for (int k = 0; k < n; k++) {
-        std::vector<std::pair<double, double>> forbidden;
+      std::vector<std::vector<std::pair<int, double>>> conflicts(n);    // (other chain, half-gap)
+      for (int k = 0; k < n; k++)
         for (int q = 0; q < k; q++) {
           const double d2d = line_distance(lines[k], lines[q], lx, ly, dc);
           if (d2d >= dc) continue;
           const double h = std::sqrt(dc * dc - d2d * d2d) * (1.0 + MARGIN) + MARGIN * dc;
-          forbidden.emplace_back(lines[q].z - h, lines[q].z + h);
+          conflicts[k].emplace_back(q, h);
+          conflicts[q].emplace_back(k, h);
         }
+      std::vector<char> is_placed(n, 0);
+      auto lowest = [&](int k) {
+        std::vector<std::pair<double, double>> forbidden;
+        for (auto &qh : conflicts[k])
+          if (is_placed[qh.first])
+            forbidden.emplace_back(lines[qh.first].z - qh.second, lines[qh.first].z + qh.second);
         std::sort(forbidden.begin(), forbidden.end());
         double z = zmin;
         for (auto &iv : forbidden) {
           if (iv.first >= z) break;
           if (iv.second > z) z = iv.second;
         }
-        lines[k].z = z;
+        return z;
+      };
+      std::vector<int> order(n);
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dev[a] < dev[b]; });
+      for (int k : order) {
+        lines[k].z = lowest(k);
+        is_placed[k] = 1;
+      }
+      for (int sweep = 0; sweep < 50; sweep++) {
+        std::stable_sort(order.begin(), order.end(),
+                         [&](int a, int b) { return lines[a].z > lines[b].z; });
+        bool moved = false;
+        for (int k : order) {
+          is_placed[k] = 0;
+          const double z = lowest(k);
+          is_placed[k] = 1;
+          if (z < lines[k].z - 1e-9 * dc) {
+            lines[k].z = z;
+            moved = true;
+          }
+        }
+        if (!moved) break;
       }
     }
 
