@@ -161,6 +161,16 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
     }
   }
   lap.needle.resize(lap.repeat);
+  // underlaps (from the loop of one course to the next) over more than one needle would lie on
+  // the underlaps and legs of the neighbouring yarns of a fully threaded bar in the idealised path
+  for (int c = 0; c < lap.repeat; c++) {
+    const int move = lap.needle[(c + 1) % lap.repeat] - lap.needle[c];
+    if (std::abs(move) > 1)
+      fail(where, "key 'pattern': value '" + text + "': the underlap after course " +
+                      std::to_string(c + 1) + " crosses " + std::to_string(std::abs(move)) +
+                      " needles; only underlaps over 0 or 1 needle are supported (wider ones "
+                      "would overlap the neighbouring yarns in the idealised path)");
+  }
   return lap;
 }
 
