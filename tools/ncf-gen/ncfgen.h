@@ -168,10 +168,16 @@ std::string summary_text(const Fabric &f);
 // .yarn.lmp, .summary. Nothing is written here.
 Outputs make_outputs(const Fabric &f, const std::string &prefix);
 
+// Command-line values that replace the card's (0 = keep the card's).
+struct Overrides {
+  int r_w = 0, r_l = 0;
+  long long seed = -1;
+};
+
 // Reads the card and its materials, builds, then writes every file; on any error writes nothing
 // and returns the message in 'error' (false returned).
 bool generate(const std::string &card_path, const std::string &prefix, std::string &error,
-              std::string *summary = nullptr);
+              std::string *summary = nullptr, const Overrides *overrides = nullptr);
 
 }    // namespace NCFGEN
 

@@ -312,11 +312,14 @@ Outputs make_outputs(const Fabric &f, const std::string &prefix)
 }
 
 bool generate(const std::string &card_path, const std::string &prefix, std::string &error,
-              std::string *summary)
+              std::string *summary, const Overrides *ov)
 {
   Outputs out;
   try {
-    const Card card = read_card(card_path);
+    Card card = read_card(card_path);
+    if (ov && ov->r_w > 0) card.r_w = ov->r_w;
+    if (ov && ov->r_l > 0) card.r_l = ov->r_l;
+    if (ov && ov->seed >= 0) card.seed = (std::uint64_t) ov->seed;
     const NCF::MaterialLibrary lib = NCF::MaterialLibrary::read(card.materials_file);
     const Fabric f = build_fabric(card, lib);
     out = make_outputs(f, prefix);
