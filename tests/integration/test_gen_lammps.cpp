@@ -41,8 +41,10 @@ Data read_data_file(const std::string &path)
   std::map<long, std::array<long, 2>> dt;
   std::map<long, std::array<double, 2>> l0;
   while (std::getline(in, line)) {
-    if (line.find(" atoms") != std::string::npos && section.empty()) d.atoms = std::atol(line.c_str());
-    if (line.find(" bonds") != std::string::npos && section.empty()) d.bonds = std::atol(line.c_str());
+    if (line.find(" atoms") != std::string::npos && section.empty())
+      d.atoms = std::atol(line.c_str());
+    if (line.find(" bonds") != std::string::npos && section.empty())
+      d.bonds = std::atol(line.c_str());
     if (line.rfind("Atoms", 0) == 0 || line == "Bonds" || line == "NCF_NODE" || line == "Masses" ||
         line == "NCF_CHAIN_L0") {
       section = line.substr(0, 5);
@@ -153,7 +155,8 @@ void load_and_check(const std::string &card, const std::string &name)
   for (int t = 1; t <= nlayers; t++) {
     l.cmd("variable ly" + std::to_string(t) + " atom i_ncf_layer==" + std::to_string(t));
     l.cmd("group ly" + std::to_string(t) + " variable ly" + std::to_string(t));
-    EXPECT_EQ(l.value("count(ly" + std::to_string(t) + ")"), l.value("count(ncf_layer" + std::to_string(t) + ")"));
+    EXPECT_EQ(l.value("count(ly" + std::to_string(t) + ")"),
+              l.value("count(ncf_layer" + std::to_string(t) + ")"));
   }
 
   // the stitching yarn, appended as a later stage does
@@ -224,13 +227,14 @@ TEST(GenLammps, PatternAndAnglesNoExampleUsesLoad)
   // gauge 7, a 2 x 1 RVE, loops on top
   const std::string dir = scratch_dir("gen_odd_card");
   const std::string card = dir + "/odd.card";
-  std::ofstream(card) << "name odd\nmaterials " << source_path("potentials/ncf.materials")
-                      << "\nseed 11\nrve 2 1\nchain_diameter 80 um\npacking 0.6\n"
-                         "fibre_mesh 0.25 mm\nyarn_mesh 0.12 mm\nV_L 0.25\nmass_scaling 10\n"
-                         "layer 30\n areal_weight 0.1\n material SGL_Sigrafil_CT24-4.8/240\n sigma 2.5\n"
-                         "layer -60\n areal_weight 120 g/m^2\n material SGL_Sigrafil_CT50-4.4/255\n sigma 1\n"
-                         "layer 0\n areal_weight 100 g/m^2\n material SGL_Sigrafil_CT50-4.4/255\n sigma 0\n"
-                         "pattern 1-0/1-2/2-3/2-1//\ngauge 7\nstitch_length 1.9 mm\nyarn PES_5.0tex\n"
-                         "loops top\n";
+  std::ofstream(card)
+      << "name odd\nmaterials " << source_path("potentials/ncf.materials")
+      << "\nseed 11\nrve 2 1\nchain_diameter 80 um\npacking 0.6\n"
+         "fibre_mesh 0.25 mm\nyarn_mesh 0.12 mm\nV_L 0.25\nmass_scaling 10\n"
+         "layer 30\n areal_weight 0.1\n material SGL_Sigrafil_CT24-4.8/240\n sigma 2.5\n"
+         "layer -60\n areal_weight 120 g/m^2\n material SGL_Sigrafil_CT50-4.4/255\n sigma 1\n"
+         "layer 0\n areal_weight 100 g/m^2\n material SGL_Sigrafil_CT50-4.4/255\n sigma 0\n"
+         "pattern 1-0/1-2/2-3/2-1//\ngauge 7\nstitch_length 1.9 mm\nyarn PES_5.0tex\n"
+         "loops top\n";
   load_and_check(card, "odd");
 }

@@ -40,13 +40,15 @@ std::string card_text(const std::string &body, const std::string &head_extra = "
 
 const std::string STITCH_TRICOT_CHAIN =
     "pattern tricot-chain\ngauge 5\nstitch_length 2.8 mm\nyarn PES_7.6tex\n";
-const std::string STITCH_TRICOT = "pattern tricot\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n";
+const std::string STITCH_TRICOT =
+    "pattern tricot\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n";
 
 std::string layer(double angle, double aw_gsm, double sigma, const std::string &mat)
 {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "layer %g deg\n  areal_weight %g g/m^2\n  material %s\n  sigma %g deg\n",
-                angle, aw_gsm, mat.c_str(), sigma);
+  std::snprintf(buf, sizeof buf,
+                "layer %g deg\n  areal_weight %g g/m^2\n  material %s\n  sigma %g deg\n", angle,
+                aw_gsm, mat.c_str(), sigma);
   return buf;
 }
 
@@ -157,8 +159,8 @@ TEST(GenLapping, NamedPatternsAndTheirRepeats)
 
 TEST(GenLapping, MalformedNotationNamesTheValue)
 {
-  for (const char *bad : {"satin", "1-0/", "1-0/1-x//", "10//", "-1/0-1//", "1-3/2-1//", "2-2//",
-                          "1-0/2-3//"}) {
+  for (const char *bad :
+       {"satin", "1-0/", "1-0/1-x//", "10//", "-1/0-1//", "1-3/2-1//", "2-2//", "1-0/2-3//"}) {
     try {
       parse_lapping(bad, "card:7");
       ADD_FAILURE() << bad << " accepted";
@@ -178,13 +180,14 @@ TEST(GenRve, SizesPerPattern)
   for (auto &c : cases)
     for (int rw : {1, 2})
       for (int rl : {1, 3}) {
-        const std::string text = card_text(layer(0, 150, 1, CT24) + "pattern " + c.pattern +
-                                               "\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n",
-                                           "rve " + std::to_string(rw) + " " + std::to_string(rl) + "\n");
+        const std::string text =
+            card_text(layer(0, 150, 1, CT24) + "pattern " + c.pattern +
+                          "\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n",
+                      "rve " + std::to_string(rw) + " " + std::to_string(rl) + "\n");
         Fabric f = build(text);
         EXPECT_NEAR(f.lx, rl * c.courses * 2.2e-3, 1e-15) << c.pattern;
         EXPECT_NEAR(f.ly, rw * 25.4e-3 / 5, 1e-15) << c.pattern;
-        EXPECT_EQ(f.needles.size(), (std::size_t) (rw * rl * c.courses)) << c.pattern;
+        EXPECT_EQ(f.needles.size(), (std::size_t)(rw * rl * c.courses)) << c.pattern;
         EXPECT_EQ(f.yarn.yarns, rw);
       }
   // the paper's elementary RVEs: 0/90 tricot-chain 11.2 x 5.08 mm, +-45 tricot 4.4 x 5.08 mm
@@ -199,12 +202,11 @@ TEST(GenRve, SizesPerPattern)
 
 TEST(GenLayers, ChainsPerWidthWithinOnePercentOfArealWeight)
 {
-  std::vector<Fabric> fabrics = {example("gen-ncf090/ncf090.card", 1, 1),
-                                 example("gen-ncf090/ncf090.card", 2, 2),
-                                 example("gen-ncf45/ncf45.card", 1, 1),
-                                 example("gen-ncf45/ncf45.card", 3, 3),
-                                 build(card_text(layer(30, 200, 2, CT24) + layer(-60, 120, 0, CT50) +
-                                                     layer(10, 80, 5, CT24) + STITCH_TRICOT))};
+  std::vector<Fabric> fabrics = {
+      example("gen-ncf090/ncf090.card", 1, 1), example("gen-ncf090/ncf090.card", 2, 2),
+      example("gen-ncf45/ncf45.card", 1, 1), example("gen-ncf45/ncf45.card", 3, 3),
+      build(card_text(layer(30, 200, 2, CT24) + layer(-60, 120, 0, CT50) + layer(10, 80, 5, CT24) +
+                      STITCH_TRICOT))};
   for (const Fabric &f : fabrics)
     for (const LayerInfo &L : f.layers) {
       const double target = L.spec.areal_weight / L.chain.mass_per_length;
@@ -242,7 +244,8 @@ TEST(GenLayers, AngleSampleStdWithinFivePercentOfSigma)
   }
   for (auto &kv : ends) {
     const double a = std::atan2(kv.second.second->x[1] - kv.second.first->x[1],
-                                kv.second.second->x[0] - kv.second.first->x[0]) * 180.0 / M_PI;
+                                kv.second.second->x[0] - kv.second.first->x[0]) *
+        180.0 / M_PI;
     sum += a;
     sum2 += a * a;
     n++;
@@ -253,9 +256,9 @@ TEST(GenLayers, AngleSampleStdWithinFivePercentOfSigma)
   // plain iid sampling: unbiased on average over seeds
   double mean_std = 0;
   for (int seed = 1; seed <= 10; seed++) {
-    Card c = parse_card(card_text(layer(0, 150, 3.0, CT24) + STITCH_TRICOT_CHAIN,
-                                  "rve 3 1\nsampling random\n"),
-                        SRC + "/examples/test.card");
+    Card c = parse_card(
+        card_text(layer(0, 150, 3.0, CT24) + STITCH_TRICOT_CHAIN, "rve 3 1\nsampling random\n"),
+        SRC + "/examples/test.card");
     c.seed = seed;
     mean_std += build_fabric(c, materials()).layers[0].angle_std / 10;
   }
@@ -267,9 +270,10 @@ TEST(GenLayers, NoPairOfChainsCloserThanTheContactDiameter)
   std::vector<Fabric> fabrics = {
       example("gen-ncf090/ncf090.card", 1, 1), example("gen-ncf090/ncf090.card", 2, 2),
       example("gen-ncf45/ncf45.card", 1, 1),
-      build(card_text(layer(30, 150, 3, CT24) + layer(-75, 150, 0, CT24) + layer(0, 150, 0, CT24) +
-                          "pattern 1-0/1-2/2-3/2-1//\ngauge 7\nstitch_length 1.9 mm\nyarn PES_5.0tex\n",
-                      "rve 2 1\n"))};
+      build(card_text(
+          layer(30, 150, 3, CT24) + layer(-75, 150, 0, CT24) + layer(0, 150, 0, CT24) +
+              "pattern 1-0/1-2/2-3/2-1//\ngauge 7\nstitch_length 1.9 mm\nyarn PES_5.0tex\n",
+          "rve 2 1\n"))};
   for (const Fabric &f : fabrics) {
     const Clearance c = min_clearance(segments(f.fibres, f.lx), f.lx, f.ly);
     EXPECT_GT(c.pairs, 1000);
@@ -296,7 +300,8 @@ TEST(GenLayers, ClearanceCheckerAgreesWithBruteForce)
         for (int iy = -3; iy <= 3; iy++) {
           double q0[3] = {q.a[0] + ix * f.lx, q.a[1] + iy * f.ly, q.a[2]};
           double q1[3] = {q.b[0] + ix * f.lx, q.b[1] + iy * f.ly, q.b[2]};
-          best = std::min(best, std::sqrt(segment_distance2<3>(p.a, p.b, q0, q1)) - p.radius - q.radius);
+          best = std::min(best,
+                          std::sqrt(segment_distance2<3>(p.a, p.b, q0, q1)) - p.radius - q.radius);
         }
     }
   EXPECT_NEAR(min_clearance(segs, f.lx, f.ly).gap, best, 1e-15);
@@ -304,7 +309,8 @@ TEST(GenLayers, ClearanceCheckerAgreesWithBruteForce)
 
 TEST(GenLayers, EveryFaceCrossingContinuesAtTheMatchingPointOfTheOppositeFace)
 {
-  for (const Fabric &f : {example("gen-ncf45/ncf45.card", 1, 1), example("gen-ncf090/ncf090.card", 1, 1)}) {
+  for (const Fabric &f :
+       {example("gen-ncf45/ncf45.card", 1, 1), example("gen-ncf090/ncf090.card", 1, 1)}) {
     DataFile d = parse_data(layers_data(f));
     ASSERT_EQ(d.x.size(), f.fibres.nodes.size());
     const double L[2] = {d.lx, d.ly};
@@ -331,7 +337,8 @@ TEST(GenLayers, EveryFaceCrossingContinuesAtTheMatchingPointOfTheOppositeFace)
         ASSERT_LE(t, 1.0);
         for (int c = 0; c < 3; c++) {
           const double leave = p[c] + t * u[c];
-          const double enter = q[c] - (1.0 - t) * u[c] + (c == k ? (iq[k] > ip[k] ? L[k] : -L[k]) : 0.0);
+          const double enter =
+              q[c] - (1.0 - t) * u[c] + (c == k ? (iq[k] > ip[k] ? L[k] : -L[k]) : 0.0);
           EXPECT_NEAR(leave, enter, 1e-12);
         }
       }
@@ -367,8 +374,8 @@ TEST(GenLayers, ThicknessFromEquationOneAndHomogeneousMatForSigmaZero)
   EXPECT_NEAR(a.layers[0].t_l * 1e3, 0.41, 0.005);    // Table 3
   EXPECT_NEAR(b.layers[0].t_l * 1e3, 0.43, 0.005);
   // sigma = 0: chains straight at the nominal angle, the mat placed directly with thickness t_L
-  Fabric h = build(card_text(layer(0, 150, 0, CT24) + layer(90, 150, 0, CT24) + layer(35, 150, 0, CT50) +
-                                 STITCH_TRICOT_CHAIN,
+  Fabric h = build(card_text(layer(0, 150, 0, CT24) + layer(90, 150, 0, CT24) +
+                                 layer(35, 150, 0, CT50) + STITCH_TRICOT_CHAIN,
                              "V_L 0.25\n"));
   double base = 0.0;
   for (const LayerInfo &L : h.layers) {
@@ -388,7 +395,8 @@ TEST(GenLayers, ThicknessFromEquationOneAndHomogeneousMatForSigmaZero)
     std::size_t j = i;
     while (h.fibres.nodes[j].end != XHI && h.fibres.nodes[j].end != YHI) j++;
     const Node &e = h.fibres.nodes[j];
-    const double h0 = std::hypot(h.fibres.nodes[i + 1].x[0] - n.x[0], h.fibres.nodes[i + 1].x[1] - n.x[1]);
+    const double h0 =
+        std::hypot(h.fibres.nodes[i + 1].x[0] - n.x[0], h.fibres.nodes[i + 1].x[1] - n.x[1]);
     const int k = n.end == XLO ? 0 : 1;
     EXPECT_NEAR(n.x[k] + (k ? h.ly : h.lx) - e.x[k], h0, 1e-12);
     EXPECT_NEAR(n.x[1 - k], e.x[1 - k], 1e-15);
@@ -427,11 +435,13 @@ TEST(GenYarn, DiameterFromLinearDensityAndIdealisedPath)
     // nodes only on the two faces or on legs at the holes; at each hole one leg down, one up
     std::map<std::pair<long, long>, int> legs;
     for (const Node &n : f->stitch.nodes) {
-      const bool face = std::fabs(n.x[2] - y.z_bottom) < 1e-12 || std::fabs(n.x[2] - y.z_top) < 1e-12;
+      const bool face = std::fabs(n.x[2] - y.z_bottom) < 1e-12 ||
+          std::fabs(n.x[2] - y.z_top) < 1e-12;
       if (face) continue;
       const double xw = n.x[0] - f->lx * std::floor(n.x[0] / f->lx);
       const double yw = n.x[1] - f->ly * std::floor(n.x[1] / f->ly);
-      const double hx = std::round(xw / f->course - 0.5), hy = std::round(yw / f->needle_spacing - 0.5);
+      const double hx = std::round(xw / f->course - 0.5),
+                   hy = std::round(yw / f->needle_spacing - 0.5);
       const double off = xw - (hx + 0.5) * f->course;
       EXPECT_NEAR(std::fabs(off), y.leg_offset, 1e-12);
       EXPECT_NEAR(yw, (hy + 0.5) * f->needle_spacing, 1e-12);
@@ -441,7 +451,8 @@ TEST(GenYarn, DiameterFromLinearDensityAndIdealisedPath)
     EXPECT_EQ(legs.size(), 2 * f->needles.size());
     for (auto &kv : legs) EXPECT_EQ(kv.second, legs.begin()->second);
     EXPECT_GE(y.z_top - y.z_bottom, f->thickness + y.chain.diameter);
-    EXPECT_NEAR(y.node_mass * y.nodes, y.chain.mass_per_length * y.length_per_yarn * y.yarns, 1e-18);
+    EXPECT_NEAR(y.node_mass * y.nodes, y.chain.mass_per_length * y.length_per_yarn * y.yarns,
+                1e-18);
   }
 }
 
@@ -474,7 +485,8 @@ TEST(GenOutputs, SameSeedSameBytesOtherSeedOtherBytes)
     return s.str();
   };
   for (const char *suffix : {".layers.data", ".yarn.data", ".needles", ".summary", ".yarn.lmp"}) {
-    const std::string a = slurp(dir / (std::string("a") + suffix)), b = slurp(dir / (std::string("b") + suffix));
+    const std::string a = slurp(dir / (std::string("a") + suffix)),
+                      b = slurp(dir / (std::string("b") + suffix));
     EXPECT_FALSE(a.empty()) << suffix;
     EXPECT_EQ(a, b) << suffix;
   }
@@ -500,9 +512,14 @@ TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
   } cases[] = {
       {"packing 0.5\n", "packing 0.5\nwarp_speed 3\n", 7, {"unknown key 'warp_speed'"}},
       {"seed 3\n", "seed\n", 4, {"key 'seed' has no value"}},
-      {"chain_diameter 69 um\n", "chain_diameter -69 um\n", 5, {"key 'chain_diameter'", "'-69'", "> 0"}},
+      {"chain_diameter 69 um\n",
+       "chain_diameter -69 um\n",
+       5,
+       {"key 'chain_diameter'", "'-69'", "> 0"}},
       {"sigma 1 deg\n", "sigma -1 deg\n", 12, {"key 'sigma'", "'-1'", ">= 0"}},
-      {"material SGL_Sigrafil_CT24-4.8/240\n", "material Unobtainium\n", 11,
+      {"material SGL_Sigrafil_CT24-4.8/240\n",
+       "material Unobtainium\n",
+       11,
        {"key 'material'", "'Unobtainium'", "unknown material"}},
       {"pattern tricot\n", "pattern 1-0/1-x//\n", 13, {"key 'pattern'", "'1-0/1-x//'"}},
       {"pattern tricot\n", "pattern satin\n", 13, {"key 'pattern'", "'satin'"}},

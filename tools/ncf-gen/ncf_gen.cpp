@@ -47,13 +47,16 @@ int main(int argc, char **argv)
     } else if (!std::strcmp(argv[i], "-q")) {
       quiet = true;
     } else if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) {
-      std::printf("usage: ncf-gen CARD [-o PREFIX] [-rve R_W R_L] [-seed N] [-q]\n"
-                  "  writes PREFIX.layers.data PREFIX.yarn.data PREFIX.needles PREFIX.settings.lmp\n"
-                  "  PREFIX.yarn.lmp PREFIX.summary (PREFIX defaults to the card's name);\n"
-                  "  -rve and -seed replace the card's values; -q prints no summary\n");
+      std::printf(
+          "usage: ncf-gen CARD [-o PREFIX] [-rve R_W R_L] [-seed N] [-q]\n"
+          "  writes PREFIX.layers.data PREFIX.yarn.data PREFIX.needles PREFIX.settings.lmp\n"
+          "  PREFIX.yarn.lmp PREFIX.summary (PREFIX defaults to the card's name);\n"
+          "  -rve and -seed replace the card's values; -q prints no summary\n");
       return 0;
     } else if (argv[i][0] == '-' || !card.empty()) {
-      std::fprintf(stderr, "ncf-gen: unexpected argument '%s' (usage: ncf-gen CARD [-o PREFIX] [-rve R_W R_L] [-seed N] [-q])\n",
+      std::fprintf(stderr,
+                   "ncf-gen: unexpected argument '%s' (usage: ncf-gen CARD [-o PREFIX] [-rve R_W "
+                   "R_L] [-seed N] [-q])\n",
                    argv[i]);
       return 2;
     } else {

@@ -30,14 +30,14 @@ struct LayerSpec {
   double areal_weight = -1.0;    // fibre areal weight A [kg/m^2]
   std::string material;          // filament material name in the materials file
   int material_line = 0;
-  double sigma = 0.0;            // standard deviation of the chain angles [deg]
+  double sigma = 0.0;    // standard deviation of the chain angles [deg]
 };
 
 struct Lapping {
-  std::string text;                          // as written on the card (or the named pattern)
-  std::vector<std::pair<int, int>> laps;     // overlap (a-b) of each course in the notation
-  std::vector<int> needle;                   // needle of the loop of each course, min(a, b)
-  int repeat = 0;                            // courses of the idealised path's repeat
+  std::string text;                         // as written on the card (or the named pattern)
+  std::vector<std::pair<int, int>> laps;    // overlap (a-b) of each course in the notation
+  std::vector<int> needle;                  // needle of the loop of each course, min(a, b)
+  int repeat = 0;                           // courses of the idealised path's repeat
 };
 
 // Parses warp-knitting lapping notation ("1-0/1-2//") or a named pattern (pillar, chain, tricot,
@@ -50,15 +50,15 @@ struct Card {
   std::string materials_file;    // resolved path of the materials file
   int materials_line = 0;
   std::uint64_t seed = 1;
-  int r_w = 1, r_l = 1;                // RVE repetitions across / along the machine direction
-  double chain_diameter = 69e-6;       // d_c of the filament chains [m]
-  double packing = 0.5;                // packing coefficient phi
-  double fibre_mesh = 0.2e-3;          // target element length of the filament chains [m]
-  double yarn_mesh = 0.1e-3;           // target element length of the yarn [m]
-  double v_l = 0.20;                   // initial fibre volume fraction V_L (Eq. 1)
-  double mass_scaling = 1.0;           // factor on all node masses
-  bool stratified = true;              // angle sampling: stratified Gaussian (default) or iid
-  std::vector<LayerSpec> layers;       // bottom to top
+  int r_w = 1, r_l = 1;             // RVE repetitions across / along the machine direction
+  double chain_diameter = 69e-6;    // d_c of the filament chains [m]
+  double packing = 0.5;             // packing coefficient phi
+  double fibre_mesh = 0.2e-3;       // target element length of the filament chains [m]
+  double yarn_mesh = 0.1e-3;        // target element length of the yarn [m]
+  double v_l = 0.20;                // initial fibre volume fraction V_L (Eq. 1)
+  double mass_scaling = 1.0;        // factor on all node masses
+  bool stratified = true;           // angle sampling: stratified Gaussian (default) or iid
+  std::vector<LayerSpec> layers;    // bottom to top
   // stitching (one fully threaded guide bar)
   Lapping pattern;
   int pattern_line = 0;
@@ -66,8 +66,8 @@ struct Card {
   double stitch_length = -1.0;    // course spacing [m]
   std::string yarn;               // yarn material name
   int yarn_line = 0;
-  bool loops_bottom = true;       // loops on the bottom face (z < 0), underlaps on the top face
-  double leg_gap = 1.02;          // distance of the two yarn legs at one hole / yarn diameter
+  bool loops_bottom = true;    // loops on the bottom face (z < 0), underlaps on the top face
+  double leg_gap = 1.02;       // distance of the two yarn legs at one hole / yarn diameter
 };
 
 // Reads and checks a card; every error names the card file, the line, the key and the value.
@@ -79,17 +79,17 @@ Card parse_card(const std::string &text, const std::string &path);
 enum EndFace { INTERIOR = 0, XLO = 1, XHI = 2, YLO = 3, YHI = 4 };
 
 struct Node {
-  double x[3];     // unwrapped position [m]
-  int type = 1;    // atom type
-  int layer = 0;   // layer index from 1, 0 = stitching yarn
-  int end = 0;     // EndFace
-  int chain = 0;   // chain (molecule) id within its data file, from 1
+  double x[3];      // unwrapped position [m]
+  int type = 1;     // atom type
+  int layer = 0;    // layer index from 1, 0 = stitching yarn
+  int end = 0;      // EndFace
+  int chain = 0;    // chain (molecule) id within its data file, from 1
 };
 
 struct Bond {
   int i = 0, j = 0;    // node indices (0-based) within the same node list
   int type = 1;
-  double l0 = 0.0;     // reference length = initial length [m]
+  double l0 = 0.0;    // reference length = initial length [m]
 };
 
 struct Part {    // one data file's worth of nodes and bonds
@@ -116,15 +116,15 @@ struct LayerInfo {
   std::vector<double> angles;                  // chain angles [deg]
   double node_mass = 0.0;                      // lumped, mass scaling included [kg]
   double min_l0 = 0.0, max_l0 = 0.0;
-  double dt_crit = 0.0;                        // min L0 sqrt(rho_c ms / E_c) [s]
+  double dt_crit = 0.0;    // min L0 sqrt(rho_c ms / E_c) [s]
 };
 
 struct YarnInfo {
   bool present = false;
   NCF::ChainProperties chain;
   int yarns = 0, nodes = 0, bonds = 0;
-  double length_per_yarn = 0.0;    // path length of one yarn in the RVE [m]
-  double areal_weight = 0.0;       // yarn mass / RVE area [kg/m^2]
+  double length_per_yarn = 0.0;          // path length of one yarn in the RVE [m]
+  double areal_weight = 0.0;             // yarn mass / RVE area [kg/m^2]
   double z_bottom = 0.0, z_top = 0.0;    // centre-line heights of the two faces [m]
   double leg_offset = 0.0;               // x offset of each leg from its hole centre [m]
   double node_mass = 0.0;
@@ -134,13 +134,13 @@ struct YarnInfo {
 
 struct Fabric {
   Card card;
-  double lx = 0.0, ly = 0.0;     // RVE size [m], box [0,lx] x [0,ly]
-  double zlo = 0.0, zhi = 0.0;   // box in z (non-periodic)
-  double course = 0.0;           // stitch length = course spacing [m]
-  double needle_spacing = 0.0;   // 25.4 mm / gauge [m]
-  int courses = 0;               // courses in the RVE
-  double thickness = 0.0;        // sum of t_L: the compacted mat occupies 0 <= z <= thickness
-  double stack_top = 0.0;        // top surface of the generated (uncompacted) stack [m]
+  double lx = 0.0, ly = 0.0;      // RVE size [m], box [0,lx] x [0,ly]
+  double zlo = 0.0, zhi = 0.0;    // box in z (non-periodic)
+  double course = 0.0;            // stitch length = course spacing [m]
+  double needle_spacing = 0.0;    // 25.4 mm / gauge [m]
+  int courses = 0;                // courses in the RVE
+  double thickness = 0.0;         // sum of t_L: the compacted mat occupies 0 <= z <= thickness
+  double stack_top = 0.0;         // top surface of the generated (uncompacted) stack [m]
   std::vector<LayerInfo> layers;
   YarnInfo yarn;
   Part fibres, stitch;

@@ -42,12 +42,15 @@ namespace {
   // inverse of the standard normal CDF (Acklam's rational approximation, one Newton step on erfc)
   double normal_quantile(double p)
   {
-    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                               1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                               6.680131188771972e+01,  -1.328068155288572e+01};
-    static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                               -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                               -2.759285104469687e+02, 1.383577518672690e+02,
+                               -3.066479806614716e+01, 2.506628277459239e+00};
+    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                               -1.556989798598866e+02, 6.680131188771972e+01,
+                               -1.328068155288572e+01};
+    static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                               -2.400758277161838e+00, -2.549732539343734e+00,
+                               4.374664141464968e+00,  2.938163982698783e+00};
     static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
                                3.754408661907416e+00};
     const double plow = 0.02425;
@@ -94,9 +97,15 @@ namespace {
     return std::sqrt(best);
   }
 
-  int gcd(int a, int b) { return b ? gcd(b, a % b) : a; }
+  int gcd(int a, int b)
+  {
+    return b ? gcd(b, a % b) : a;
+  }
 
-  std::string at(const std::string &path, int line) { return path + ":" + std::to_string(line); }
+  std::string at(const std::string &path, int line)
+  {
+    return path + ":" + std::to_string(line);
+  }
 
 }    // namespace
 
@@ -270,14 +279,17 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       };
       std::vector<int> order(n);
       std::iota(order.begin(), order.end(), 0);
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dev[a] < dev[b]; });
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return dev[a] < dev[b];
+      });
       for (int k : order) {
         lines[k].z = lowest(k);
         is_placed[k] = 1;
       }
       for (int sweep = 0; sweep < 50; sweep++) {
-        std::stable_sort(order.begin(), order.end(),
-                         [&](int a, int b) { return lines[a].z > lines[b].z; });
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+          return lines[a].z > lines[b].z;
+        });
         bool moved = false;
         for (int k : order) {
           is_placed[k] = 0;
@@ -334,7 +346,8 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
     info.nodes = (int) f.fibres.nodes.size() - first_node;
     info.stack = info.z_max - info.z_min + dc;
     info.node_mass = card.mass_scaling * mass / info.nodes;
-    info.dt_crit = info.min_l0 * std::sqrt(info.chain.density * card.mass_scaling / info.chain.modulus);
+    info.dt_crit =
+        info.min_l0 * std::sqrt(info.chain.density * card.mass_scaling / info.chain.modulus);
     double mean = 0.0, var = 0.0;
     for (double a : info.angles) mean += a;
     mean /= n;
@@ -354,8 +367,8 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   try {
     y.chain = NCF::yarn_chain(lib.get(card.yarn));
   } catch (InputError &e) {
-    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn + "': " +
-                     e.what() + " (materials file " + card.materials_file + ")");
+    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
+                     "': " + e.what() + " (materials file " + card.materials_file + ")");
   }
   const double dy = y.chain.diameter, ry = 0.5 * dy;
   // the yarn wraps the compacted mat 0 <= z <= sum t_L, touching its faces

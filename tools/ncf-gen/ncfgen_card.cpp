@@ -35,8 +35,8 @@ namespace {
   {
     static const std::map<std::string, double> length = {
         {"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}, {"micron", 1e-6}};
-    static const std::map<std::string, double> areal = {{"kg/m^2", 1.0}, {"g/m^2", 1e-3},
-                                                        {"gsm", 1e-3}};
+    static const std::map<std::string, double> areal = {
+        {"kg/m^2", 1.0}, {"g/m^2", 1e-3}, {"gsm", 1e-3}};
     static const std::map<std::string, double> angle = {{"deg", 1.0},
                                                         {"rad", 180.0 / 3.14159265358979323846}};
     const std::map<std::string, double> *table = nullptr;
@@ -48,7 +48,8 @@ namespace {
       auto it = table->find(unit);
       if (it != table->end()) return it->second;
       for (const auto &kv : *table) known += (known.empty() ? "" : ", ") + kv.first;
-      fail(where, "key '" + key + "': unknown unit '" + unit + "' (expected one of: " + known + ")");
+      fail(where,
+           "key '" + key + "': unknown unit '" + unit + "' (expected one of: " + known + ")");
     }
     fail(where, "key '" + key + "' takes no unit, got '" + unit + "'");
   }
@@ -127,8 +128,8 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
   std::size_t pos = 0;
   while (pos <= body.size()) {
     const auto slash = body.find('/', pos);
-    const std::string course = body.substr(pos, slash == std::string::npos ? std::string::npos
-                                                                          : slash - pos);
+    const std::string course =
+        body.substr(pos, slash == std::string::npos ? std::string::npos : slash - pos);
     const auto dash = course.find('-');
     if (dash == std::string::npos || dash == 0 || dash + 1 >= course.size()) fail(where, bad);
     const std::string sa = course.substr(0, dash), sb = course.substr(dash + 1);
@@ -166,10 +167,11 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
   for (int c = 0; c < lap.repeat; c++) {
     const int move = lap.needle[(c + 1) % lap.repeat] - lap.needle[c];
     if (std::abs(move) > 1)
-      fail(where, "key 'pattern': value '" + text + "': the underlap after course " +
-                      std::to_string(c + 1) + " crosses " + std::to_string(std::abs(move)) +
-                      " needles; only underlaps over 0 or 1 needle are supported (wider ones "
-                      "would overlap the neighbouring yarns in the idealised path)");
+      fail(where,
+           "key 'pattern': value '" + text + "': the underlap after course " +
+               std::to_string(c + 1) + " crosses " + std::to_string(std::abs(move)) +
+               " needles; only underlaps over 0 or 1 needle are supported (wider ones "
+               "would overlap the neighbouring yarns in the idealised path)");
   }
   return lap;
 }
@@ -200,12 +202,12 @@ Card parse_card(const std::string &text, const std::string &path)
   static const std::map<std::string, Dim> layer_keys = {
       {"areal_weight", AREAL}, {"material", NONE}, {"sigma", ANGLE}};
   static const std::map<std::string, Dim> global_keys = {
-      {"name", NONE},          {"materials", NONE},     {"seed", NONE},
-      {"rve", NONE},           {"chain_diameter", LENGTH}, {"packing", NONE},
-      {"fibre_mesh", LENGTH},  {"yarn_mesh", LENGTH},   {"V_L", NONE},
-      {"mass_scaling", NONE},  {"sampling", NONE},      {"pattern", NONE},
-      {"gauge", NONE},         {"stitch_length", LENGTH}, {"yarn", NONE},
-      {"loops", NONE},         {"leg_gap", NONE},       {"layer", ANGLE}};
+      {"name", NONE},         {"materials", NONE},        {"seed", NONE},
+      {"rve", NONE},          {"chain_diameter", LENGTH}, {"packing", NONE},
+      {"fibre_mesh", LENGTH}, {"yarn_mesh", LENGTH},      {"V_L", NONE},
+      {"mass_scaling", NONE}, {"sampling", NONE},         {"pattern", NONE},
+      {"gauge", NONE},        {"stitch_length", LENGTH},  {"yarn", NONE},
+      {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -227,8 +229,10 @@ Card parse_card(const std::string &text, const std::string &path)
     // value with an optional unit word; 'rve' takes two integers
     double scale = 1.0;
     if (key == "rve") {
-      if (w.size() != 3) fail(where, "key 'rve' needs two integers r_W r_L, got " +
-                                         std::to_string(w.size() - 1) + " value(s)");
+      if (w.size() != 3)
+        fail(where,
+             "key 'rve' needs two integers r_W r_L, got " + std::to_string(w.size() - 1) +
+                 " value(s)");
     } else if (w.size() > 3) {
       fail(where, "key '" + key + "': unexpected '" + w[3] + "' after the value");
     } else if (w.size() == 3) {
@@ -242,7 +246,8 @@ Card parse_card(const std::string &text, const std::string &path)
 
     if (!is_layer_key && key != "layer") {
       if (seen.count(key))
-        fail(where, "key '" + key + "' given twice (first on line " + std::to_string(seen[key]) + ")");
+        fail(where,
+             "key '" + key + "' given twice (first on line " + std::to_string(seen[key]) + ")");
       seen[key] = lineno;
     }
 
@@ -338,11 +343,13 @@ Card parse_card(const std::string &text, const std::string &path)
     const LayerSpec &L = card.layers[i];
     const std::string where = at(path, L.line);
     if (L.areal_weight < 0.0)
-      fail(where, "layer " + std::to_string(i + 1) + " (key 'layer' " + std::to_string(L.angle) +
-                      " deg) has no 'areal_weight'");
+      fail(where,
+           "layer " + std::to_string(i + 1) + " (key 'layer' " + std::to_string(L.angle) +
+               " deg) has no 'areal_weight'");
     if (L.material.empty())
-      fail(where, "layer " + std::to_string(i + 1) + " (key 'layer' " + std::to_string(L.angle) +
-                      " deg) has no 'material'");
+      fail(where,
+           "layer " + std::to_string(i + 1) + " (key 'layer' " + std::to_string(L.angle) +
+               " deg) has no 'material'");
   }
   if (!have_pattern) fail(at(path, lineno), "the card has no 'pattern' (stitching pattern)");
   if (card.stitch_length < 0.0) fail(at(path, lineno), "the card has no 'stitch_length'");
@@ -363,7 +370,8 @@ Card parse_card(const std::string &text, const std::string &path)
   }
   if (!file_exists(m))
     fail(at(path, card.materials_line ? card.materials_line : lineno),
-         "key 'materials': value '" + (materials_given.empty() ? std::string("(default)") : materials_given) +
+         "key 'materials': value '" +
+             (materials_given.empty() ? std::string("(default)") : materials_given) +
              "': cannot open '" + m + "'");
   card.materials_file = m;
   return card;

@@ -138,7 +138,8 @@ std::string yarn_data(const Fabric &f)
 
 std::string needles_text(const Fabric &f)
 {
-  std::string s = "# ncf-gen needles of '" + f.card.name + "': " + std::to_string(f.needles.size()) +
+  std::string s = "# ncf-gen needles of '" + f.card.name +
+      "': " + std::to_string(f.needles.size()) +
       " stitching points, x y [m] (x machine direction, y gauge direction)\n";
   s += "# box 0 " + g(f.lx) + " 0 " + g(f.ly) + "\n";
   for (auto &n : f.needles) s += g(n.first) + " " + g(n.second) + "\n";
@@ -170,7 +171,8 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   for (int i = 0; i < nl; i++) {
     const LayerInfo &L = f.layers[i];
     const std::string n = std::to_string(i + 1);
-    s += "variable ncf_tL_" + n + " equal " + g(L.t_l) + "  # layer " + n + " thickness, Eq. 1 [m]\n";
+    s += "variable ncf_tL_" + n + " equal " + g(L.t_l) + "  # layer " + n +
+        " thickness, Eq. 1 [m]\n";
     s += "variable ncf_d_" + n + " equal " + g(L.chain.diameter) +
         "  # contact diameter of atom type " + n + " [m]\n";
   }
@@ -185,8 +187,9 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
         std::to_string(i + 1) + ": E_c " + g(L.chain.modulus) + " Pa, d_c " + g(L.chain.diameter) +
         " m\n";
   }
-  s += "bond_coeff " + std::to_string(yt) + " ea " + g(f.yarn.chain.ea) + "  # stitching yarn: E_c " +
-      g(f.yarn.chain.modulus) + " Pa, d_c " + g(f.yarn.chain.diameter) + " m\n\n";
+  s += "bond_coeff " + std::to_string(yt) + " ea " + g(f.yarn.chain.ea) +
+      "  # stitching yarn: E_c " + g(f.yarn.chain.modulus) + " Pa, d_c " +
+      g(f.yarn.chain.diameter) + " m\n\n";
   std::string all;
   for (int i = 0; i < nl; i++) {
     s += "group ncf_layer" + std::to_string(i + 1) + " type " + std::to_string(i + 1) + "\n";
@@ -223,17 +226,21 @@ std::string summary_text(const Fabric &f)
   s += "seed " + std::to_string(c.seed) + ", angle sampling " +
       (c.stratified ? "stratified" : "random") + ", materials " + c.materials_file + "\n\n";
   s += "RVE\n";
-  line("pattern", c.pattern.text + "  (repeat " + std::to_string(c.pattern.repeat) + " course" +
-                      (c.pattern.repeat > 1 ? "s" : "") + ")");
-  line("gauge / needle spacing", fmt("%g npi", c.gauge) + " / " + fmt("%.4f mm", f.needle_spacing * 1e3));
+  line("pattern",
+       c.pattern.text + "  (repeat " + std::to_string(c.pattern.repeat) + " course" +
+           (c.pattern.repeat > 1 ? "s" : "") + ")");
+  line("gauge / needle spacing",
+       fmt("%g npi", c.gauge) + " / " + fmt("%.4f mm", f.needle_spacing * 1e3));
   line("stitch length", fmt("%.4f mm", f.course * 1e3));
   line("repetitions r_W x r_L", std::to_string(c.r_w) + " x " + std::to_string(c.r_l));
-  line("size Lx (machine) x Ly (gauge)", fmt("%.4f", f.lx * 1e3) + " x " + fmt("%.4f mm", f.ly * 1e3));
-  line("courses, needles (stitching points)", std::to_string(f.courses) + ", " +
-                                                   std::to_string(f.needles.size()));
+  line("size Lx (machine) x Ly (gauge)",
+       fmt("%.4f", f.lx * 1e3) + " x " + fmt("%.4f mm", f.ly * 1e3));
+  line("courses, needles (stitching points)",
+       std::to_string(f.courses) + ", " + std::to_string(f.needles.size()));
   line("sum of t_L (compacted mat)", fmt("%.4f mm", f.thickness * 1e3));
-  line("generated stack top", fmt("%.4f mm", f.stack_top * 1e3) +
-                                  fmt("  (%.2f x the compacted mat)", f.stack_top / f.thickness));
+  line("generated stack top",
+       fmt("%.4f mm", f.stack_top * 1e3) +
+           fmt("  (%.2f x the compacted mat)", f.stack_top / f.thickness));
   line("box z", fmt("%.4f", f.zlo * 1e3) + " .. " + fmt("%.4f mm", f.zhi * 1e3));
   double minl0 = f.yarn.min_l0, dt = f.yarn.dt_crit;
   for (std::size_t i = 0; i < f.layers.size(); i++) {
@@ -246,39 +253,48 @@ std::string summary_text(const Fabric &f)
     line("material", L.spec.material + fmt("  (rho_f %g kg/m^3)", L.filament_density));
     line("chain d_c, packing", fmt("%g um", L.chain.diameter * 1e6) + fmt(", %g", L.chain.packing));
     line("filaments per chain", fmt("%.2f", L.chain.filaments));
-    line("E_c, rho_c, EA", fmt("%.5g GPa", L.chain.modulus * 1e-9) + fmt(", %.5g kg/m^3", L.chain.density) +
-                               fmt(", %.5g N", L.chain.ea));
+    line("E_c, rho_c, EA",
+         fmt("%.5g GPa", L.chain.modulus * 1e-9) + fmt(", %.5g kg/m^3", L.chain.density) +
+             fmt(", %.5g N", L.chain.ea));
     line("fibre mass per chain length", fmt("%.5g kg/m", L.chain.mass_per_length));
-    line("chains cross the RVE along", std::string(L.main_axis == 0 ? "x" : "y") +
-                                           fmt("  (width across the fibres %.4f mm)", L.width * 1e3));
-    line("chains per mm: target, generated", fmt("%.4f", L.chains_per_width_target * 1e-3) +
-                                                 fmt(", %.4f", L.chains / L.width * 1e-3) +
-                                                 fmt("  (%+.3f %%)", 100.0 * (L.chains / L.width / L.chains_per_width_target - 1.0)));
-    line("chains, nodes, bonds", std::to_string(L.chains) + ", " + std::to_string(L.nodes) + ", " +
-                                     std::to_string(L.bonds));
-    line("element length min / max", fmt("%.5f", L.min_l0 * 1e3) + fmt(" / %.5f mm", L.max_l0 * 1e3));
+    line("chains cross the RVE along",
+         std::string(L.main_axis == 0 ? "x" : "y") +
+             fmt("  (width across the fibres %.4f mm)", L.width * 1e3));
+    line("chains per mm: target, generated",
+         fmt("%.4f", L.chains_per_width_target * 1e-3) + fmt(", %.4f", L.chains / L.width * 1e-3) +
+             fmt("  (%+.3f %%)", 100.0 * (L.chains / L.width / L.chains_per_width_target - 1.0)));
+    line("chains, nodes, bonds",
+         std::to_string(L.chains) + ", " + std::to_string(L.nodes) + ", " +
+             std::to_string(L.bonds));
+    line("element length min / max",
+         fmt("%.5f", L.min_l0 * 1e3) + fmt(" / %.5f mm", L.max_l0 * 1e3));
     line("t_L = A / (V_L rho_f)", fmt("%.4f mm", L.t_l * 1e3) + fmt("  (V_L %g)", c.v_l));
-    line("generated thickness", fmt("%.4f mm", L.stack * 1e3) +
-                                    (L.homogeneous ? fmt("  (homogeneous mat, lattice multiplier %g)", L.lattice_multiplier)
-                                                   : fmt("  (first-fit stack, %.2f x t_L)", L.stack / L.t_l)));
+    line("generated thickness",
+         fmt("%.4f mm", L.stack * 1e3) +
+             (L.homogeneous
+                  ? fmt("  (homogeneous mat, lattice multiplier %g)", L.lattice_multiplier)
+                  : fmt("  (first-fit stack, %.2f x t_L)", L.stack / L.t_l)));
     line("chain centres z", fmt("%.4f", L.z_min * 1e3) + fmt(" .. %.4f mm", L.z_max * 1e3));
-    line("chain angles: mean, sample std", fmt("%.4f deg", L.angle_mean) + fmt(", %.4f deg", L.angle_std));
-    line("node mass (lumped, scaled)", fmt("%.5g kg", L.node_mass) + fmt("  (mass scaling %g)", c.mass_scaling));
+    line("chain angles: mean, sample std",
+         fmt("%.4f deg", L.angle_mean) + fmt(", %.4f deg", L.angle_std));
+    line("node mass (lumped, scaled)",
+         fmt("%.5g kg", L.node_mass) + fmt("  (mass scaling %g)", c.mass_scaling));
     line("critical time step of the bonds", fmt("%.4g s", L.dt_crit));
   }
   const YarnInfo &y = f.yarn;
   s += "\nstitching yarn (atom/bond type " + std::to_string(f.yarn_type()) + ")\n";
   line("material", c.yarn);
   line("chain diameter (hexagonal packing)", fmt("%.2f um", y.chain.diameter * 1e6));
-  line("E_c, rho_c, EA", fmt("%.5g GPa", y.chain.modulus * 1e-9) + fmt(", %.5g kg/m^3", y.chain.density) +
-                             fmt(", %.5g N", y.chain.ea));
-  line("yarns, nodes, bonds", std::to_string(y.yarns) + ", " + std::to_string(y.nodes) + ", " +
-                                  std::to_string(y.bonds));
+  line("E_c, rho_c, EA",
+       fmt("%.5g GPa", y.chain.modulus * 1e-9) + fmt(", %.5g kg/m^3", y.chain.density) +
+           fmt(", %.5g N", y.chain.ea));
+  line("yarns, nodes, bonds",
+       std::to_string(y.yarns) + ", " + std::to_string(y.nodes) + ", " + std::to_string(y.bonds));
   line("path length per yarn", fmt("%.4f mm", y.length_per_yarn * 1e3));
   line("yarn areal weight", fmt("%.3f g/m^2", y.areal_weight * 1e3));
-  line("loops on / underlaps on", std::string(c.loops_bottom ? "bottom / top" : "top / bottom") +
-                                      fmt("  (faces at z = %.4f", y.z_bottom * 1e3) +
-                                      fmt(" and %.4f mm)", y.z_top * 1e3));
+  line("loops on / underlaps on",
+       std::string(c.loops_bottom ? "bottom / top" : "top / bottom") +
+           fmt("  (faces at z = %.4f", y.z_bottom * 1e3) + fmt(" and %.4f mm)", y.z_top * 1e3));
   line("legs: offset from the hole centre", fmt("%.4f mm", y.leg_offset * 1e3));
   line("element length min / max", fmt("%.5f", y.min_l0 * 1e3) + fmt(" / %.5f mm", y.max_l0 * 1e3));
   line("node mass (lumped, scaled)", fmt("%.5g kg", y.node_mass));
@@ -287,12 +303,14 @@ std::string summary_text(const Fabric &f)
   const Clearance cl = min_clearance(segments_of(f.fibres, f.lx), f.lx, f.ly);
   const Clearance cy = min_clearance(segments_of(f.stitch, f.lx), f.lx, f.ly);
   s += "\nchecks\n";
-  line("min clearance between fibre chains", fmt("%.4g um", cl.gap * 1e6) +
-                                                 fmt("  (%.6f x d_c)", cl.distance / f.card.chain_diameter));
+  line("min clearance between fibre chains",
+       fmt("%.4g um", cl.gap * 1e6) + fmt("  (%.6f x d_c)", cl.distance / f.card.chain_diameter));
   line("min clearance within the yarn", fmt("%.4g um", cy.gap * 1e6));
-  line("total atoms, bonds", std::to_string(f.fibres.nodes.size() + f.stitch.nodes.size()) + ", " +
-                                 std::to_string(f.fibres.bonds.size() + f.stitch.bonds.size()));
-  line("critical time step (all bonds)", fmt("%.4g s", dt) + fmt("  (shortest element %.5f mm)", minl0 * 1e3));
+  line("total atoms, bonds",
+       std::to_string(f.fibres.nodes.size() + f.stitch.nodes.size()) + ", " +
+           std::to_string(f.fibres.bonds.size() + f.stitch.bonds.size()));
+  line("critical time step (all bonds)",
+       fmt("%.4g s", dt) + fmt("  (shortest element %.5f mm)", minl0 * 1e3));
   return s;
 }
 
