@@ -548,3 +548,15 @@ TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
   }
   fs::remove_all(dir);
 }
+
+TEST(GenOutputs, SigmaThatTurnsAChainAcrossItsAxisIsAnError)
+{
+  const std::string text = card_text(layer(40, 150, 19, CT24) + STITCH_TRICOT, "rve 2 2\n");
+  try {
+    build(text);
+    ADD_FAILURE() << "accepted";
+  } catch (InputError &e) {
+    EXPECT_THAT(e.what(), HasSubstr("test.card:10: key 'sigma'"));
+    EXPECT_THAT(e.what(), HasSubstr("reduce sigma"));
+  }
+}

@@ -183,6 +183,13 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
     for (int k = 0; k < n; k++) {
       const double a = (nominal + dev[k]) * DEG;
       double p0[2], dir[2] = {std::cos(a), std::sin(a)}, len;
+      // a chain must cross its main axis at a reasonable angle (within 80 deg of it)
+      if (dir[info.main_axis] < std::cos(80.0 * DEG))
+        throw InputError(at(card.path, spec.line) + ": key 'sigma': value " +
+                         std::to_string(spec.sigma) + " deg of layer " + std::to_string(layer) +
+                         " gives a chain at " + std::to_string(spec.angle + dev[k]) +
+                         " deg, more than 80 deg from the axis its chains cross (" +
+                         (info.main_axis == 0 ? "x" : "y") + "): reduce sigma");
       if (info.main_axis == 0) {
         p0[0] = 0.0;
         p0[1] = (k + 0.5) * ly / n;
@@ -250,9 +257,8 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       // first fit: each chain, in the order of its angle (nearly parallel chains first fill the
       // bottom like a mat; ties by start point), at the lowest height where it keeps the contact
       // diameter from every chain placed before it (this order gave stacks 10-25 % thinner than
-      // the order of the start points or random orders); then "gravity" sweeps
-      // (top chain first, each one dropped to the lowest height free of all others) until no
-      // chain moves. Conflicts (pairs closer than d_c in projection) are found once.
+      // the order of the start points or random orders; "gravity" sweeps dropping each chain
+      // afterwards moved none). Conflicts (pairs closer than d_c in projection) are found once.
       const double zmin = base + r1;
       std::vector<std::vector<std::pair<int, double>>> conflicts(n);    // (other chain, half-gap)
       for (int k = 0; k < n; k++)
@@ -285,22 +291,6 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       for (int k : order) {
         lines[k].z = lowest(k);
         is_placed[k] = 1;
-      }
-      for (int sweep = 0; sweep < 50; sweep++) {
-        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-          return lines[a].z > lines[b].z;
-        });
-        bool moved = false;
-        for (int k : order) {
-          is_placed[k] = 0;
-          const double z = lowest(k);
-          is_placed[k] = 1;
-          if (z < lines[k].z - 1e-9 * dc) {
-            lines[k].z = z;
-            moved = true;
-          }
-        }
-        if (!moved) break;
       }
     }
 
