@@ -451,9 +451,26 @@ TEST(GenYarn, DiameterFromLinearDensityAndIdealisedPath)
     EXPECT_EQ(legs.size(), 2 * f->needles.size());
     for (auto &kv : legs) EXPECT_EQ(kv.second, legs.begin()->second);
     EXPECT_GE(y.z_top - y.z_bottom, f->thickness + y.chain.diameter);
-    EXPECT_NEAR(y.node_mass * y.nodes, y.chain.mass_per_length * y.length_per_yarn * y.yarns,
-                1e-18);
+    // the lumped masses add up to the yarn mass (the bonds' lengths times the mass per length)
+    double length = 0.0;
+    for (const Bond &bd : f->stitch.bonds) length += bd.l0;
+    EXPECT_NEAR(y.node_mass * y.nodes, y.chain.mass_per_length * length,
+                1e-12 * y.node_mass * y.nodes);
+    EXPECT_NEAR(y.length_per_yarn * y.yarns, length, 1e-12 * length);
   }
+}
+
+TEST(GenYarn, PerYarnAndPerAreaValuesDoNotDependOnTheRveSize)
+{
+  Fabric a = example("gen-ncf090/ncf090.card", 1, 1), b = example("gen-ncf090/ncf090.card", 2, 3);
+  EXPECT_EQ(b.yarn.yarns, 2);
+  EXPECT_NEAR(b.yarn.length_per_yarn, 3 * a.yarn.length_per_yarn, 1e-12);
+  EXPECT_NEAR(b.yarn.areal_weight, a.yarn.areal_weight, 1e-12 * a.yarn.areal_weight);
+  EXPECT_NEAR(b.yarn.node_mass, a.yarn.node_mass, 1e-12 * a.yarn.node_mass);
+  EXPECT_EQ(b.yarn.nodes, 6 * a.yarn.nodes);
+  // 7.6 tex along 28.5 mm of path in an 11.2 x 5.08 mm RVE: 3.81 g/m^2
+  EXPECT_NEAR(a.yarn.areal_weight, 7.6e-6 * a.yarn.length_per_yarn / (11.2e-3 * 5.08e-3), 1e-12);
+  EXPECT_NEAR(a.yarn.areal_weight * 1e3, 3.81, 0.01);
 }
 
 TEST(GenYarn, MassScalingMultipliesEveryMass)

@@ -375,6 +375,7 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   const std::vector<int> &needle = card.pattern.needle;
   const int p = card.pattern.repeat;
   y.yarns = card.r_w;
+  double total_length = 0.0;    // of all yarns
   y.min_l0 = 1e300;
   for (int w = 0; w < card.r_w; w++) {
     // corner points of the idealised path over the RVE length: per course c, down through the
@@ -401,7 +402,7 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       const auto &b = (k + 1 < corners.size()) ? corners[k + 1] : closing;
       const double len = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
                                    (b[2] - a[2]) * (b[2] - a[2]));
-      y.length_per_yarn += len;
+      total_length += len;
       const int nseg = std::max(1, (int) std::ceil(len / card.yarn_mesh - 1e-9));
       for (int j = 0; j < nseg; j++) {
         Node nd;
@@ -432,8 +433,9 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   }
   y.nodes = (int) f.stitch.nodes.size();
   y.bonds = (int) f.stitch.bonds.size();
-  y.areal_weight = y.chain.mass_per_length * y.length_per_yarn * y.yarns / (lx * ly);
-  y.node_mass = card.mass_scaling * y.chain.mass_per_length * y.length_per_yarn * y.yarns / y.nodes;
+  y.length_per_yarn = total_length / y.yarns;
+  y.areal_weight = y.chain.mass_per_length * total_length / (lx * ly);
+  y.node_mass = card.mass_scaling * y.chain.mass_per_length * total_length / y.nodes;
   y.dt_crit = y.min_l0 * std::sqrt(y.chain.density * card.mass_scaling / y.chain.modulus);
 
   // ---------------------------------------------------------------- needles: every stitching point
