@@ -69,21 +69,7 @@ Fabric example(const std::string &which, int rw, int rl)
 
 std::vector<Segment> segments(const Part &p, double lx)
 {
-  std::vector<Segment> out;
-  for (const Bond &b : p.bonds) {
-    Segment s;
-    for (int d = 0; d < 3; d++) {
-      s.a[d] = p.nodes[b.i].x[d];
-      s.b[d] = p.nodes[b.j].x[d];
-    }
-    if (s.b[0] < s.a[0] - 0.5 * lx) s.b[0] += lx;    // closing bond of a yarn loop
-    s.chain = p.nodes[b.i].chain;
-    s.na = b.i;
-    s.nb = b.j;
-    s.radius = 0.5 * p.diameter[s.chain - 1];
-    out.push_back(s);
-  }
-  return out;
+  return part_segments(p, lx);
 }
 
 // atoms of a data file as written: wrapped x y z and image flags, by id; bonds as (i, j)
@@ -543,6 +529,14 @@ TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
       {"yarn PES_5.0tex\n", "yarn PES_99tex\n", 16, {"key 'yarn'", "'PES_99tex'"}},
       {"areal_weight 150 g/m^2\n", "areal_weight 150 furlongs\n", 10, {"unknown unit 'furlongs'"}},
       {"gauge 5\n", "gauge 5\ngauge 7\n", 15, {"given twice"}},
+      {"fibre_mesh 0.2 mm\n",
+       "fibre_mesh 0.05 mm\n",
+       7,
+       {"key 'fibre_mesh'", "shorter than the chain diameter"}},
+      {"yarn_mesh 0.1 mm\n",
+       "yarn_mesh 0.05 mm\n",
+       8,
+       {"key 'yarn_mesh'", "shorter than the yarn diameter"}},
       {"yarn_mesh 0.1 mm\n", "yarn_mesh 0.1 mm\nsigma 2\n", 9, {"outside a layer block"}},
   };
   for (auto &c : cases) {

@@ -14,6 +14,7 @@
 #include "ncf_material.h"
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,7 +46,8 @@ struct Lapping {
 Lapping parse_lapping(const std::string &text, const std::string &where);
 
 struct Card {
-  std::string path;    // the card file (messages, relative paths)
+  std::string path;                       // the card file (messages, relative paths)
+  std::map<std::string, int> key_line;    // line of each global key given on the card
   std::string name = "ncf";
   std::string materials_file;    // resolved path of the materials file
   int materials_line = 0;
@@ -145,11 +147,18 @@ struct Fabric {
   YarnInfo yarn;
   Part fibres, stitch;
   std::vector<std::pair<double, double>> needles;    // stitching points (x, y) [m]
+  // geometric check of the result: smallest distance minus contact diameter over all segment
+  // pairs (periodic images included) of the layers and of the yarn [m], and the layers' distance
+  double fibre_gap = 0.0, fibre_distance = 0.0, yarn_gap = 0.0;
   int atom_types() const { return (int) layers.size() + 1; }
   int yarn_type() const { return (int) layers.size() + 1; }
 };
 
 Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib);
+
+struct Segment;
+// the bonds of a part as segments with unwrapped ends (a yarn's closing bond shifted by lx)
+std::vector<Segment> part_segments(const Part &part, double lx);
 
 // ------------------------------------------------------------------ outputs
 

@@ -120,7 +120,20 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   f.ly = card.r_w * f.needle_spacing;
   const double lx = f.lx, ly = f.ly;
 
+  auto line_of = [&](const char *key, const char *other) {
+    auto it = card.key_line.find(key);
+    if (it == card.key_line.end()) it = card.key_line.find(other);
+    return it == card.key_line.end() ? 0 : it->second;
+  };
+
   // ---------------------------------------------------------------- fibrous layers
+  // elements at least one chain diameter long: non-neighbouring elements of one straight chain
+  // then never touch (the contact acts between all segments that share no node)
+  if (card.fibre_mesh < card.chain_diameter)
+    throw InputError(at(card.path, line_of("fibre_mesh", "chain_diameter")) +
+                     ": key 'fibre_mesh': value " + std::to_string(card.fibre_mesh) +
+                     " m is shorter than the chain diameter " +
+                     std::to_string(card.chain_diameter) + " m");
   double base = 0.0;    // bottom surface of the next layer
   int chain_id = 0;
   const double dc = card.chain_diameter, rc = 0.5 * dc;
@@ -361,6 +374,10 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
                      "': " + e.what() + " (materials file " + card.materials_file + ")");
   }
   const double dy = y.chain.diameter, ry = 0.5 * dy;
+  if (card.yarn_mesh < dy)
+    throw InputError(at(card.path, line_of("yarn_mesh", "yarn")) + ": key 'yarn_mesh': value " +
+                     std::to_string(card.yarn_mesh) + " m is shorter than the yarn diameter " +
+                     std::to_string(dy) + " m");
   // the yarn wraps the compacted mat 0 <= z <= sum t_L, touching its faces
   const double zb = -ry * (1.0 + MARGIN), zt = f.thickness + ry * (1.0 + MARGIN);
   const double zloop = card.loops_bottom ? zb : zt, zunder = card.loops_bottom ? zt : zb;
@@ -403,7 +420,10 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       const double len = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
                                    (b[2] - a[2]) * (b[2] - a[2]));
       total_length += len;
-      const int nseg = std::max(1, (int) std::ceil(len / card.yarn_mesh - 1e-9));
+      // elements of at most yarn_mesh, but not shorter than the yarn diameter
+      const int nseg = std::max(1,
+                                std::min((int) std::ceil(len / card.yarn_mesh - 1e-9),
+                                         (int) std::floor(len / dy + 1e-9)));
       for (int j = 0; j < nseg; j++) {
         Node nd;
         const double t = (double) j / nseg;
@@ -449,7 +469,39 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   const double pad = 0.5 * (top - bottom);
   f.zlo = bottom - pad;
   f.zhi = top + pad;
+
+  // ---------------------------------------------------------------- the promise: no overlap
+  const Clearance cl = min_clearance(part_segments(f.fibres, lx), lx, ly);
+  const Clearance cy = min_clearance(part_segments(f.stitch, lx), lx, ly);
+  f.fibre_gap = cl.gap;
+  f.fibre_distance = cl.distance;
+  f.yarn_gap = cy.gap;
+  if (cl.gap < 0.0 || cy.gap < 0.0)
+    throw InputError(card.path + ": internal check failed: generated " +
+                     (cl.gap < 0.0 ? "chains" : "yarn segments") + " overlap by " +
+                     std::to_string(-std::min(cl.gap, cy.gap)) +
+                     " m; please report this card as a bug of ncf-gen");
   return f;
+}
+
+std::vector<Segment> part_segments(const Part &part, double lx)
+{
+  std::vector<Segment> out;
+  for (const Bond &b : part.bonds) {
+    Segment sg;
+    for (int d = 0; d < 3; d++) {
+      sg.a[d] = part.nodes[b.i].x[d];
+      sg.b[d] = part.nodes[b.j].x[d];
+    }
+    // a closing bond of a yarn loop: its far end is one period further along x
+    if (sg.b[0] < sg.a[0] - 0.5 * lx) sg.b[0] += lx;
+    sg.chain = part.nodes[b.i].chain;
+    sg.na = b.i;
+    sg.nb = b.j;
+    sg.radius = 0.5 * part.diameter[sg.chain - 1];
+    out.push_back(sg);
+  }
+  return out;
 }
 
 }    // namespace NCFGEN

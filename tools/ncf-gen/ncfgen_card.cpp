@@ -374,6 +374,7 @@ Card parse_card(const std::string &text, const std::string &path)
              (materials_given.empty() ? std::string("(default)") : materials_given) +
              "': cannot open '" + m + "'");
   card.materials_file = m;
+  card.key_line = seen;
   return card;
 }
 
