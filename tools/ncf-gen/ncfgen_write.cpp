@@ -1,12 +1,13 @@
 /* ----------------------------------------------------------------------
    USER-NCF fabric generator: output files (LAMMPS data files, needles, include files, summary).
-   Numbers are written with %.17g (shortest exact round trip is not needed, determinism is: the
-   same card and seed give the same bytes).
+   Numbers are written as the shortest text that reads back as the same double (std::to_chars),
+   so the files are exact and the same card and seed give the same bytes.
 ------------------------------------------------------------------------- */
 
 #include "ncfgen.h"
 #include "ncfgen_geom.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -16,11 +17,12 @@ namespace NCFGEN {
 
 namespace {
 
+  // shortest text that reads back as the same double
   std::string g(double v)
   {
     char buf[40];
-    std::snprintf(buf, sizeof(buf), "%.17g", v);
-    return buf;
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
   }
 
   std::string fmt(const char *f, double v)
