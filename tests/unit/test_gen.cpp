@@ -1,0 +1,573 @@
+// Unit tests of the fabric generator ncf-gen (tools/ncf-gen, library ncfgen_core), no LAMMPS.
+// Numbers from the paper: Table 1 (fabrics), Table 3 (discretisation), Eq. 1 (t_L).
+
+#include "ncfgen.h"
+#include "ncfgen_geom.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <unistd.h>
+
+using namespace NCFGEN;
+using ::testing::HasSubstr;
+
+namespace {
+
+const std::string SRC = NCF_SOURCE_DIR;
+const std::string MATERIALS = SRC + "/potentials/ncf.materials";
+
+NCF::MaterialLibrary materials()
+{
+  return NCF::MaterialLibrary::read(MATERIALS);
+}
+
+// a card: the shared head, then the given layers and stitching lines
+std::string card_text(const std::string &body, const std::string &head_extra = "")
+{
+  return "# test card\nname t\nmaterials " + MATERIALS +
+      "\nseed 3\nchain_diameter 69 um\npacking 0.5\nfibre_mesh 0.2 mm\nyarn_mesh 0.1 mm\n" +
+      head_extra + body;
+}
+
+const std::string STITCH_TRICOT_CHAIN =
+    "pattern tricot-chain\ngauge 5\nstitch_length 2.8 mm\nyarn PES_7.6tex\n";
+const std::string STITCH_TRICOT =
+    "pattern tricot\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n";
+
+std::string layer(double angle, double aw_gsm, double sigma, const std::string &mat)
+{
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "layer %g deg\n  areal_weight %g g/m^2\n  material %s\n  sigma %g deg\n", angle,
+                aw_gsm, mat.c_str(), sigma);
+  return buf;
+}
+
+const std::string CT24 = "SGL_Sigrafil_CT24-4.8/240", CT50 = "SGL_Sigrafil_CT50-4.4/255";
+
+Fabric build(const std::string &text)
+{
+  return build_fabric(parse_card(text, SRC + "/examples/test.card"), materials());
+}
+
+Fabric example(const std::string &which, int rw, int rl)
+{
+  Card c = read_card(SRC + "/examples/" + which);
+  c.r_w = rw;
+  c.r_l = rl;
+  return build_fabric(c, materials());
+}
+
+std::vector<Segment> segments(const Part &p, double lx)
+{
+  return part_segments(p, lx);
+}
+
+// atoms of a data file as written: wrapped x y z and image flags, by id; bonds as (i, j)
+struct DataFile {
+  double lx = 0, ly = 0;
+  std::map<int, std::array<double, 3>> x;
+  std::map<int, std::array<int, 3>> image;
+  std::map<int, std::pair<int, int>> ends;    // id -> (layer, end)
+  std::vector<std::pair<int, int>> bonds;
+};
+
+DataFile parse_data(const std::string &text)
+{
+  DataFile d;
+  std::istringstream in(text);
+  std::string line, section;
+  while (std::getline(in, line)) {
+    if (line.find("xlo xhi") != std::string::npos) {
+      double a, b;
+      std::sscanf(line.c_str(), "%lf %lf", &a, &b);
+      d.lx = b - a;
+    } else if (line.find("ylo yhi") != std::string::npos) {
+      double a, b;
+      std::sscanf(line.c_str(), "%lf %lf", &a, &b);
+      d.ly = b - a;
+    } else if (line.rfind("Atoms", 0) == 0 || line == "Bonds" || line == "NCF_NODE" ||
+               line == "Masses" || line == "NCF_CHAIN_L0") {
+      section = line.substr(0, 5);
+    } else if (!line.empty()) {
+      std::istringstream w(line);
+      if (section == "Atoms") {
+        int id, mol, type;
+        std::array<double, 3> p;
+        std::array<int, 3> im;
+        w >> id >> mol >> type >> p[0] >> p[1] >> p[2] >> im[0] >> im[1] >> im[2];
+        d.x[id] = p;
+        d.image[id] = im;
+      } else if (section == "Bonds") {
+        int id, type, i, j;
+        w >> id >> type >> i >> j;
+        d.bonds.emplace_back(i, j);
+      } else if (section == "NCF_N") {
+        int id, l, e;
+        w >> id >> l >> e;
+        d.ends[id] = {l, e};
+      }
+    }
+  }
+  return d;
+}
+
+}    // namespace
+
+// ------------------------------------------------------------------ lapping notation, RVE
+
+TEST(GenLapping, NamedPatternsAndTheirRepeats)
+{
+  EXPECT_EQ(parse_lapping("pillar", "c").repeat, 1);
+  EXPECT_EQ(parse_lapping("chain", "c").repeat, 1);
+  EXPECT_EQ(parse_lapping("tricot", "c").repeat, 2);
+  EXPECT_EQ(parse_lapping("tricot-chain", "c").repeat, 4);
+  EXPECT_EQ(parse_lapping("tricot-chain", "c").needle, (std::vector<int>{0, 0, 1, 1}));
+  EXPECT_EQ(parse_lapping("tricot", "c").needle, (std::vector<int>{0, 1}));
+  // notation: open and closed pillar give the same idealised path
+  EXPECT_EQ(parse_lapping("0-1/1-0//", "c").repeat, 1);
+  EXPECT_EQ(parse_lapping("1-0//", "c").repeat, 1);
+  // any other lapping with underlaps over at most one needle, e.g. atlas laps
+  EXPECT_EQ(parse_lapping("1-0/1-2/2-3/2-1//", "c").repeat, 4);
+  EXPECT_EQ(parse_lapping("0-1/2-1/2-3/1-2//", "c").needle, (std::vector<int>{0, 1, 2, 1}));
+  EXPECT_EQ(parse_lapping("1-0/1-2/2-3/3-4/3-2/2-1", "c").needle,
+            (std::vector<int>{0, 1, 2, 3, 2, 1}));
+}
+
+TEST(GenLapping, MalformedNotationNamesTheValue)
+{
+  for (const char *bad :
+       {"satin", "1-0/", "1-0/1-x//", "10//", "-1/0-1//", "1-3/2-1//", "2-2//", "1-0/2-3//"}) {
+    try {
+      parse_lapping(bad, "card:7");
+      ADD_FAILURE() << bad << " accepted";
+    } catch (InputError &e) {
+      EXPECT_THAT(e.what(), HasSubstr("card:7: key 'pattern'")) << bad;
+      EXPECT_THAT(e.what(), HasSubstr(bad));
+    }
+  }
+}
+
+TEST(GenRve, SizesPerPattern)
+{
+  struct Case {
+    const char *pattern;
+    int courses;
+  } cases[] = {{"pillar", 1}, {"tricot", 2}, {"tricot-chain", 4}, {"1-0/1-2/2-3/2-1//", 4}};
+  for (auto &c : cases)
+    for (int rw : {1, 2})
+      for (int rl : {1, 3}) {
+        const std::string text =
+            card_text(layer(0, 150, 1, CT24) + "pattern " + c.pattern +
+                          "\ngauge 5\nstitch_length 2.2 mm\nyarn PES_5.0tex\n",
+                      "rve " + std::to_string(rw) + " " + std::to_string(rl) + "\n");
+        Fabric f = build(text);
+        EXPECT_NEAR(f.lx, rl * c.courses * 2.2e-3, 1e-15) << c.pattern;
+        EXPECT_NEAR(f.ly, rw * 25.4e-3 / 5, 1e-15) << c.pattern;
+        EXPECT_EQ(f.needles.size(), (std::size_t)(rw * rl * c.courses)) << c.pattern;
+        EXPECT_EQ(f.yarn.yarns, rw);
+      }
+  // the paper's elementary RVEs: 0/90 tricot-chain 11.2 x 5.08 mm, +-45 tricot 4.4 x 5.08 mm
+  Fabric a = example("gen-ncf090/ncf090.card", 1, 1), b = example("gen-ncf45/ncf45.card", 3, 3);
+  EXPECT_NEAR(a.lx, 11.2e-3, 1e-15);
+  EXPECT_NEAR(a.ly, 5.08e-3, 1e-15);
+  EXPECT_NEAR(b.lx, 3 * 4.4e-3, 1e-15);
+  EXPECT_NEAR(b.ly, 3 * 5.08e-3, 1e-15);
+}
+
+// ------------------------------------------------------------------ fibrous layers
+
+TEST(GenLayers, ChainsPerWidthWithinOnePercentOfArealWeight)
+{
+  std::vector<Fabric> fabrics = {
+      example("gen-ncf090/ncf090.card", 1, 1), example("gen-ncf090/ncf090.card", 2, 2),
+      example("gen-ncf45/ncf45.card", 1, 1), example("gen-ncf45/ncf45.card", 3, 3),
+      build(card_text(layer(30, 200, 2, CT24) + layer(-60, 120, 0, CT50) + layer(10, 80, 5, CT24) +
+                      STITCH_TRICOT))};
+  for (const Fabric &f : fabrics)
+    for (const LayerInfo &L : f.layers) {
+      const double target = L.spec.areal_weight / L.chain.mass_per_length;
+      EXPECT_NEAR(L.chains_per_width_target, target, 1e-9 * target);
+      EXPECT_NEAR(L.chains / L.width, target, 0.01 * target) << L.spec.angle;
+      // and the fibre mass in the RVE is the areal weight times the area (to the rounding of
+      // the chain count): every cross-section across the fibres cuts the same chains
+      EXPECT_NEAR(L.node_mass * L.nodes, L.spec.areal_weight * f.lx * f.ly,
+                  0.01 * L.spec.areal_weight * f.lx * f.ly);
+    }
+  // hand computation for the 0/90 NCF: 150 g/m^2 / (905 kg/m^3 * pi/4 * (69 um)^2) = 44.33 /mm
+  EXPECT_NEAR(fabrics[0].layers[0].chains_per_width_target * 1e-3, 44.33, 0.01);
+  EXPECT_EQ(fabrics[0].layers[0].chains, 225);    // 44.33 * 5.08
+  EXPECT_EQ(fabrics[0].layers[1].chains, 496);    // 44.33 * 11.2
+}
+
+TEST(GenLayers, AngleSampleStdWithinFivePercentOfSigma)
+{
+  // 675 chains (0 deg, 3 RVE widths) and 993 chains (90 deg, 2 x 2 RVE of the 0/90 NCF)
+  Fabric f = build(card_text(layer(0, 150, 3.0, CT24) + STITCH_TRICOT_CHAIN, "rve 3 1\n"));
+  ASSERT_GE(f.layers[0].chains, 500);
+  EXPECT_NEAR(f.layers[0].angle_std, 3.0, 0.05 * 3.0);
+  EXPECT_NEAR(f.layers[0].angle_mean, 0.0, 0.05 * 3.0);
+  Fabric g = example("gen-ncf090/ncf090.card", 2, 2);
+  ASSERT_GE(g.layers[1].chains, 500);
+  EXPECT_NEAR(g.layers[1].angle_std, 4.0, 0.05 * 4.0);
+  // the sample is recomputed here from the chains' node positions
+  const LayerInfo &L = f.layers[0];
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  std::map<int, std::pair<const Node *, const Node *>> ends;
+  for (const Node &nd : f.fibres.nodes) {
+    if (nd.end == XLO) ends[nd.chain].first = &nd;
+    if (nd.end == XHI) ends[nd.chain].second = &nd;
+  }
+  for (auto &kv : ends) {
+    const double a = std::atan2(kv.second.second->x[1] - kv.second.first->x[1],
+                                kv.second.second->x[0] - kv.second.first->x[0]) *
+        180.0 / M_PI;
+    sum += a;
+    sum2 += a * a;
+    n++;
+  }
+  ASSERT_EQ(n, L.chains);
+  const double std = std::sqrt((sum2 - sum * sum / n) / (n - 1));
+  EXPECT_NEAR(std, L.angle_std, 1e-9);
+  // plain iid sampling: unbiased on average over seeds
+  double mean_std = 0;
+  for (int seed = 1; seed <= 10; seed++) {
+    Card c = parse_card(
+        card_text(layer(0, 150, 3.0, CT24) + STITCH_TRICOT_CHAIN, "rve 3 1\nsampling random\n"),
+        SRC + "/examples/test.card");
+    c.seed = seed;
+    mean_std += build_fabric(c, materials()).layers[0].angle_std / 10;
+  }
+  EXPECT_NEAR(mean_std, 3.0, 0.03 * 3.0);
+}
+
+TEST(GenLayers, NoPairOfChainsCloserThanTheContactDiameter)
+{
+  std::vector<Fabric> fabrics = {
+      example("gen-ncf090/ncf090.card", 1, 1), example("gen-ncf090/ncf090.card", 2, 2),
+      example("gen-ncf45/ncf45.card", 1, 1),
+      build(card_text(
+          layer(30, 150, 3, CT24) + layer(-75, 150, 0, CT24) + layer(0, 150, 0, CT24) +
+              "pattern 1-0/1-2/2-3/2-1//\ngauge 7\nstitch_length 1.9 mm\nyarn PES_5.0tex\n",
+          "rve 2 1\n"))};
+  for (const Fabric &f : fabrics) {
+    const Clearance c = min_clearance(segments(f.fibres, f.lx), f.lx, f.ly);
+    EXPECT_GT(c.pairs, 1000);
+    EXPECT_GE(c.gap, 0.0) << f.card.name << " segments " << c.s1 << " " << c.s2;
+    EXPECT_LT(c.gap, 1e-3 * f.card.chain_diameter);    // the stack is tight somewhere
+    // the stitching yarn keeps its diameter from itself and its neighbours
+    const Clearance y = min_clearance(segments(f.stitch, f.lx), f.lx, f.ly);
+    EXPECT_GE(y.gap, 0.0);
+  }
+}
+
+TEST(GenLayers, ClearanceCheckerAgreesWithBruteForce)
+{
+  Fabric f = build(card_text(layer(20, 40, 6, CT24) + layer(-70, 40, 6, CT24) +
+                             "pattern pillar\ngauge 10\nstitch_length 1.0 mm\nyarn PES_5.0tex\n"));
+  auto segs = segments(f.fibres, f.lx);
+  ASSERT_LT(segs.size(), 4000u);
+  double best = 1e300;
+  for (std::size_t i = 0; i < segs.size(); i++)
+    for (std::size_t j = i + 1; j < segs.size(); j++) {
+      const Segment &p = segs[i], &q = segs[j];
+      if (p.na == q.na || p.na == q.nb || p.nb == q.na || p.nb == q.nb) continue;
+      for (int ix = -2; ix <= 2; ix++)
+        for (int iy = -3; iy <= 3; iy++) {
+          double q0[3] = {q.a[0] + ix * f.lx, q.a[1] + iy * f.ly, q.a[2]};
+          double q1[3] = {q.b[0] + ix * f.lx, q.b[1] + iy * f.ly, q.b[2]};
+          best = std::min(best,
+                          std::sqrt(segment_distance2<3>(p.a, p.b, q0, q1)) - p.radius - q.radius);
+        }
+    }
+  EXPECT_NEAR(min_clearance(segs, f.lx, f.ly).gap, best, 1e-15);
+}
+
+TEST(GenLayers, EveryFaceCrossingContinuesAtTheMatchingPointOfTheOppositeFace)
+{
+  for (const Fabric &f :
+       {example("gen-ncf45/ncf45.card", 1, 1), example("gen-ncf090/ncf090.card", 1, 1)}) {
+    DataFile d = parse_data(layers_data(f));
+    ASSERT_EQ(d.x.size(), f.fibres.nodes.size());
+    const double L[2] = {d.lx, d.ly};
+    int crossings = 0;
+    std::map<int, std::vector<std::array<double, 3>>> dirs;
+    for (auto &b : d.bonds) {
+      const auto &p = d.x[b.first], &q = d.x[b.second];
+      const auto &ip = d.image[b.first], &iq = d.image[b.second];
+      // the bond vector from the unwrapped positions (image flags) and by minimum image agree
+      std::array<double, 3> u;
+      for (int k = 0; k < 3; k++) u[k] = q[k] - p[k] + (k < 2 ? (iq[k] - ip[k]) * L[k] : 0.0);
+      for (int k = 0; k < 2; k++) {
+        const double m = q[k] - p[k] - std::round((q[k] - p[k]) / L[k]) * L[k];
+        EXPECT_NEAR(u[k], m, 1e-12);
+      }
+      for (int k = 0; k < 2; k++) {
+        if (ip[k] == iq[k]) continue;
+        crossings++;
+        // the point where the bond leaves through face k (from p) and where it enters through
+        // the opposite face (back from q): the same point shifted by one box length
+        const double face = iq[k] > ip[k] ? L[k] : 0.0;
+        const double t = (face - p[k]) / u[k];
+        ASSERT_GE(t, 0.0);
+        ASSERT_LE(t, 1.0);
+        for (int c = 0; c < 3; c++) {
+          const double leave = p[c] + t * u[c];
+          const double enter =
+              q[c] - (1.0 - t) * u[c] + (c == k ? (iq[k] > ip[k] ? L[k] : -L[k]) : 0.0);
+          EXPECT_NEAR(leave, enter, 1e-12);
+        }
+      }
+      // straight continuation: every bond of a chain has the same direction
+      const double n = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      dirs[f.fibres.nodes[b.first - 1].chain].push_back({u[0] / n, u[1] / n, u[2] / n});
+    }
+    EXPECT_GT(crossings, 0);
+    for (auto &kv : dirs)
+      for (auto &v : kv.second)
+        for (int k = 0; k < 3; k++) EXPECT_NEAR(v[k], kv.second.front()[k], 1e-9);
+    // each chain crosses once along its main direction: two end nodes, on the two faces
+    std::map<int, std::vector<int>> ends;
+    for (auto &kv : d.ends)
+      if (kv.second.second) ends[f.fibres.nodes[kv.first - 1].chain].push_back(kv.second.second);
+    int chains = 0;
+    for (auto &L2 : f.layers) chains += L2.chains;
+    ASSERT_EQ((int) ends.size(), chains);
+    for (auto &kv : ends) {
+      ASSERT_EQ(kv.second.size(), 2u);
+      EXPECT_TRUE((kv.second[0] == XLO && kv.second[1] == XHI) ||
+                  (kv.second[0] == YLO && kv.second[1] == YHI));
+    }
+  }
+}
+
+TEST(GenLayers, ThicknessFromEquationOneAndHomogeneousMatForSigmaZero)
+{
+  Fabric a = example("gen-ncf090/ncf090.card", 1, 1), b = example("gen-ncf45/ncf45.card", 1, 1);
+  for (auto *f : {&a, &b})
+    for (auto &L : f->layers)
+      EXPECT_NEAR(L.t_l, L.spec.areal_weight / (0.20 * L.filament_density), 1e-15);
+  EXPECT_NEAR(a.layers[0].t_l * 1e3, 0.41, 0.005);    // Table 3
+  EXPECT_NEAR(b.layers[0].t_l * 1e3, 0.43, 0.005);
+  // sigma = 0: chains straight at the nominal angle, the mat placed directly with thickness t_L
+  Fabric h = build(card_text(layer(0, 150, 0, CT24) + layer(90, 150, 0, CT24) +
+                                 layer(35, 150, 0, CT50) + STITCH_TRICOT_CHAIN,
+                             "V_L 0.25\n"));
+  double base = 0.0;
+  for (const LayerInfo &L : h.layers) {
+    EXPECT_TRUE(L.homogeneous);
+    EXPECT_NEAR(L.t_l, L.spec.areal_weight / (0.25 * L.filament_density), 1e-15);
+    EXPECT_NEAR(L.stack, L.t_l, 2e-6 * 69e-6);    // centres 1e-6 d_c/2 inside the mat
+    EXPECT_NEAR(L.z_min, base + 0.5 * 69e-6, 1e-9);
+    EXPECT_NEAR(L.angle_std, 0.0, 1e-12);
+    base += L.t_l;
+  }
+  EXPECT_NEAR(h.stack_top, h.thickness, 1e-12);
+  EXPECT_GE(min_clearance(segments(h.fibres, h.lx), h.lx, h.ly).gap, 0.0);
+  // at 0 and 90 deg each chain's end continues as its own start through the opposite face
+  for (std::size_t i = 0; i + 1 < h.fibres.nodes.size(); i++) {
+    const Node &n = h.fibres.nodes[i];
+    if (n.layer > 2 || n.end != XLO && n.end != YLO) continue;
+    std::size_t j = i;
+    while (h.fibres.nodes[j].end != XHI && h.fibres.nodes[j].end != YHI) j++;
+    const Node &e = h.fibres.nodes[j];
+    const double h0 =
+        std::hypot(h.fibres.nodes[i + 1].x[0] - n.x[0], h.fibres.nodes[i + 1].x[1] - n.x[1]);
+    const int k = n.end == XLO ? 0 : 1;
+    EXPECT_NEAR(n.x[k] + (k ? h.ly : h.lx) - e.x[k], h0, 1e-12);
+    EXPECT_NEAR(n.x[1 - k], e.x[1 - k], 1e-15);
+    EXPECT_EQ(n.x[2], e.x[2]);
+  }
+}
+
+// ------------------------------------------------------------------ stitching yarn
+
+TEST(GenYarn, DiameterFromLinearDensityAndIdealisedPath)
+{
+  Fabric a = example("gen-ncf090/ncf090.card", 2, 2), b = example("gen-ncf45/ncf45.card", 1, 1);
+  EXPECT_NEAR(a.yarn.chain.diameter * 1e6, 88.0, 0.5);
+  EXPECT_NEAR(b.yarn.chain.diameter * 1e6, 71.0, 0.5);
+  for (Fabric *f : {&a, &b}) {
+    const YarnInfo &y = f->yarn;
+    // each yarn is a closed loop once along the RVE: its bonds add up to (Lx, 0, 0)
+    std::map<int, std::array<double, 3>> sum;
+    std::map<int, int> nb;
+    for (const Bond &bd : f->stitch.bonds) {
+      const Node &p = f->stitch.nodes[bd.i], &q = f->stitch.nodes[bd.j];
+      double dx = q.x[0] - p.x[0];
+      if (dx < -0.5 * f->lx) dx += f->lx;
+      sum[p.chain][0] += dx;
+      sum[p.chain][1] += q.x[1] - p.x[1];
+      sum[p.chain][2] += q.x[2] - p.x[2];
+      nb[p.chain]++;
+      EXPECT_LE(bd.l0, f->card.yarn_mesh * (1 + 1e-12));
+    }
+    ASSERT_EQ((int) sum.size(), y.yarns);
+    for (auto &kv : sum) {
+      EXPECT_NEAR(kv.second[0], f->lx, 1e-12);
+      EXPECT_NEAR(kv.second[1], 0.0, 1e-12);
+      EXPECT_NEAR(kv.second[2], 0.0, 1e-12);
+    }
+    // nodes only on the two faces or on legs at the holes; at each hole one leg down, one up
+    std::map<std::pair<long, long>, int> legs;
+    for (const Node &n : f->stitch.nodes) {
+      const bool face = std::fabs(n.x[2] - y.z_bottom) < 1e-12 ||
+          std::fabs(n.x[2] - y.z_top) < 1e-12;
+      if (face) continue;
+      const double xw = n.x[0] - f->lx * std::floor(n.x[0] / f->lx);
+      const double yw = n.x[1] - f->ly * std::floor(n.x[1] / f->ly);
+      const double hx = std::round(xw / f->course - 0.5),
+                   hy = std::round(yw / f->needle_spacing - 0.5);
+      const double off = xw - (hx + 0.5) * f->course;
+      EXPECT_NEAR(std::fabs(off), y.leg_offset, 1e-12);
+      EXPECT_NEAR(yw, (hy + 0.5) * f->needle_spacing, 1e-12);
+      legs[{(long) hx * 2 + (off > 0), (long) hy}]++;
+    }
+    // every stitching point has two legs, the same number of inner nodes on each
+    EXPECT_EQ(legs.size(), 2 * f->needles.size());
+    for (auto &kv : legs) EXPECT_EQ(kv.second, legs.begin()->second);
+    EXPECT_GE(y.z_top - y.z_bottom, f->thickness + y.chain.diameter);
+    // the lumped masses add up to the yarn mass (the bonds' lengths times the mass per length)
+    double length = 0.0;
+    for (const Bond &bd : f->stitch.bonds) length += bd.l0;
+    EXPECT_NEAR(y.node_mass * y.nodes, y.chain.mass_per_length * length,
+                1e-12 * y.node_mass * y.nodes);
+    EXPECT_NEAR(y.length_per_yarn * y.yarns, length, 1e-12 * length);
+  }
+}
+
+TEST(GenYarn, PerYarnAndPerAreaValuesDoNotDependOnTheRveSize)
+{
+  Fabric a = example("gen-ncf090/ncf090.card", 1, 1), b = example("gen-ncf090/ncf090.card", 2, 3);
+  EXPECT_EQ(b.yarn.yarns, 2);
+  EXPECT_NEAR(b.yarn.length_per_yarn, 3 * a.yarn.length_per_yarn, 1e-12);
+  EXPECT_NEAR(b.yarn.areal_weight, a.yarn.areal_weight, 1e-12 * a.yarn.areal_weight);
+  EXPECT_NEAR(b.yarn.node_mass, a.yarn.node_mass, 1e-12 * a.yarn.node_mass);
+  EXPECT_EQ(b.yarn.nodes, 6 * a.yarn.nodes);
+  // 7.6 tex along 28.5 mm of path in an 11.2 x 5.08 mm RVE: 3.81 g/m^2
+  EXPECT_NEAR(a.yarn.areal_weight, 7.6e-6 * a.yarn.length_per_yarn / (11.2e-3 * 5.08e-3), 1e-12);
+  EXPECT_NEAR(a.yarn.areal_weight * 1e3, 3.81, 0.01);
+}
+
+TEST(GenYarn, MassScalingMultipliesEveryMass)
+{
+  Fabric a = build(card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT));
+  Fabric b = build(card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT, "mass_scaling 100\n"));
+  EXPECT_NEAR(b.layers[0].node_mass, 100 * a.layers[0].node_mass, 1e-12 * b.layers[0].node_mass);
+  EXPECT_NEAR(b.yarn.node_mass, 100 * a.yarn.node_mass, 1e-12 * b.yarn.node_mass);
+  EXPECT_NEAR(b.layers[0].dt_crit, 10 * a.layers[0].dt_crit, 1e-12);
+  // critical time step L0 sqrt(rho_c / E_c) of the shortest bond
+  EXPECT_NEAR(a.layers[0].dt_crit, a.layers[0].min_l0 * std::sqrt(905.0 / 120e9), 1e-20);
+}
+
+// ------------------------------------------------------------------ outputs
+
+TEST(GenOutputs, SameSeedSameBytesOtherSeedOtherBytes)
+{
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("ncfgen_seed_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string card = SRC + "/examples/gen-ncf45/ncf45.card";
+  std::string err;
+  ASSERT_TRUE(generate(card, (dir / "a").string(), err)) << err;
+  ASSERT_TRUE(generate(card, (dir / "b").string(), err)) << err;
+  auto slurp = [](const fs::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  for (const char *suffix : {".layers.data", ".yarn.data", ".needles", ".summary", ".yarn.lmp"}) {
+    const std::string a = slurp(dir / (std::string("a") + suffix)),
+                      b = slurp(dir / (std::string("b") + suffix));
+    EXPECT_FALSE(a.empty()) << suffix;
+    EXPECT_EQ(a, b) << suffix;
+  }
+  Card c = read_card(card);
+  c.seed = 2;
+  EXPECT_NE(layers_data(build_fabric(c, materials())), slurp(dir / "a.layers.data"));
+  fs::remove_all(dir);
+}
+
+TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
+{
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("ncfgen_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string good = card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT);
+  // the good card: line 9 is "layer 0 deg", 10 areal_weight, 11 material, 12 sigma, 13 pattern,
+  // 14 gauge, 15 stitch_length, 16 yarn
+  struct Case {
+    std::string from, to;
+    int line;
+    std::vector<std::string> words;
+  } cases[] = {
+      {"packing 0.5\n", "packing 0.5\nwarp_speed 3\n", 7, {"unknown key 'warp_speed'"}},
+      {"seed 3\n", "seed\n", 4, {"key 'seed' has no value"}},
+      {"chain_diameter 69 um\n",
+       "chain_diameter -69 um\n",
+       5,
+       {"key 'chain_diameter'", "'-69'", "> 0"}},
+      {"sigma 1 deg\n", "sigma -1 deg\n", 12, {"key 'sigma'", "'-1'", ">= 0"}},
+      {"material SGL_Sigrafil_CT24-4.8/240\n",
+       "material Unobtainium\n",
+       11,
+       {"key 'material'", "'Unobtainium'", "unknown material"}},
+      {"pattern tricot\n", "pattern 1-0/1-x//\n", 13, {"key 'pattern'", "'1-0/1-x//'"}},
+      {"pattern tricot\n", "pattern satin\n", 13, {"key 'pattern'", "'satin'"}},
+      {"yarn PES_5.0tex\n", "yarn PES_99tex\n", 16, {"key 'yarn'", "'PES_99tex'"}},
+      {"areal_weight 150 g/m^2\n", "areal_weight 150 furlongs\n", 10, {"unknown unit 'furlongs'"}},
+      {"gauge 5\n", "gauge 5\ngauge 7\n", 15, {"given twice"}},
+      {"fibre_mesh 0.2 mm\n",
+       "fibre_mesh 0.05 mm\n",
+       7,
+       {"key 'fibre_mesh'", "shorter than the chain diameter"}},
+      {"yarn_mesh 0.1 mm\n",
+       "yarn_mesh 0.05 mm\n",
+       8,
+       {"key 'yarn_mesh'", "shorter than the yarn diameter"}},
+      {"yarn_mesh 0.1 mm\n", "yarn_mesh 0.1 mm\nsigma 2\n", 9, {"outside a layer block"}},
+  };
+  for (auto &c : cases) {
+    std::string text = good;
+    const auto pos = text.find(c.from);
+    ASSERT_NE(pos, std::string::npos) << c.from;
+    text.replace(pos, c.from.size(), c.to);
+    const fs::path card = dir / "bad.card";
+    {
+      std::ofstream o(card);
+      o << text;
+    }
+    std::string err;
+    EXPECT_FALSE(generate(card.string(), (dir / "out").string(), err)) << c.to;
+    EXPECT_THAT(err, HasSubstr(card.string() + ":" + std::to_string(c.line) + ":")) << err;
+    for (auto &w : c.words) EXPECT_THAT(err, HasSubstr(w)) << err;
+    int files = 0;
+    for (auto &e : fs::directory_iterator(dir)) files += e.path().filename() != "bad.card";
+    EXPECT_EQ(files, 0) << c.to;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(GenOutputs, SigmaThatTurnsAChainAcrossItsAxisIsAnError)
+{
+  const std::string text = card_text(layer(40, 150, 19, CT24) + STITCH_TRICOT, "rve 2 2\n");
+  try {
+    build(text);
+    ADD_FAILURE() << "accepted";
+  } catch (InputError &e) {
+    EXPECT_THAT(e.what(), HasSubstr("test.card:10: key 'sigma'"));
+    EXPECT_THAT(e.what(), HasSubstr("reduce sigma"));
+  }
+}

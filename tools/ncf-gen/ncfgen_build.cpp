@@ -1,0 +1,507 @@
+/* ----------------------------------------------------------------------
+   USER-NCF fabric generator: geometry of the fibrous layers, the stitching yarn and the needles
+   (paper sections 4.2, 4.4, 4.5; doc/ncf-gen.md).
+------------------------------------------------------------------------- */
+
+#include "ncfgen.h"
+#include "ncfgen_geom.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace NCFGEN {
+
+namespace {
+
+  constexpr double PI = 3.14159265358979323846;
+  constexpr double DEG = PI / 180.0;
+  constexpr double INCH = 0.0254;
+  constexpr double MARGIN = 1e-6;    // relative clearance margin above the contact diameter
+
+  // ---------------------------------------------------------------- random numbers
+  // mt19937_64 is specified bit for bit by the standard; the transforms below are our own, so a
+  // seed gives the same fabric with any standard library.
+  struct Rng {
+    std::mt19937_64 g;
+    explicit Rng(std::uint64_t seed) : g(seed) {}
+    double uniform()    // in (0, 1)
+    {
+      return ((double) (g() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+    }
+    int below(int n) { return std::min(n - 1, (int) (uniform() * n)); }
+    double normal()    // Box-Muller, one value per call
+    {
+      const double u1 = uniform(), u2 = uniform();
+      return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * PI * u2);
+    }
+  };
+
+  // inverse of the standard normal CDF (Acklam's rational approximation, one Newton step on erfc)
+  double normal_quantile(double p)
+  {
+    static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,
+                               -2.759285104469687e+02, 1.383577518672690e+02,
+                               -3.066479806614716e+01, 2.506628277459239e+00};
+    static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02,
+                               -1.556989798598866e+02, 6.680131188771972e+01,
+                               -1.328068155288572e+01};
+    static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01,
+                               -2.400758277161838e+00, -2.549732539343734e+00,
+                               4.374664141464968e+00,  2.938163982698783e+00};
+    static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                               3.754408661907416e+00};
+    const double plow = 0.02425;
+    double x;
+    if (p < plow) {
+      const double q = std::sqrt(-2 * std::log(p));
+      x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+          ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+    } else if (p <= 1 - plow) {
+      const double q = p - 0.5, r = q * q;
+      x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+          (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+    } else {
+      const double q = std::sqrt(-2 * std::log(1 - p));
+      x = -(((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+          ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+    }
+    const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+    const double u = e * std::sqrt(2 * PI) * std::exp(x * x / 2);
+    return x - u / (1 + x * u / 2);
+  }
+
+  // one straight chain of a layer before it gets its height
+  struct Line {
+    double p0[2], p1[2];    // first and last node (unwrapped)
+    double bb[4];           // xmin xmax ymin ymax
+    double z = 0.0;
+  };
+
+  // closest 2D distance of two lines, periodic images included
+  double line_distance(const Line &a, const Line &b, double lx, double ly, double cut)
+  {
+    double best = 1e300;
+    const int i0 = (int) std::ceil((a.bb[0] - b.bb[1] - cut) / lx);
+    const int i1 = (int) std::floor((a.bb[1] - b.bb[0] + cut) / lx);
+    const int j0 = (int) std::ceil((a.bb[2] - b.bb[3] - cut) / ly);
+    const int j1 = (int) std::floor((a.bb[3] - b.bb[2] + cut) / ly);
+    for (int i = i0; i <= i1; i++)
+      for (int j = j0; j <= j1; j++) {
+        const double q0[2] = {b.p0[0] + i * lx, b.p0[1] + j * ly};
+        const double q1[2] = {b.p1[0] + i * lx, b.p1[1] + j * ly};
+        best = std::min(best, segment_distance2<2>(a.p0, a.p1, q0, q1));
+      }
+    return std::sqrt(best);
+  }
+
+  int gcd(int a, int b)
+  {
+    return b ? gcd(b, a % b) : a;
+  }
+
+  std::string at(const std::string &path, int line)
+  {
+    return path + ":" + std::to_string(line);
+  }
+
+}    // namespace
+
+Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
+{
+  Fabric f;
+  f.card = card;
+  f.course = card.stitch_length;
+  f.needle_spacing = INCH / card.gauge;
+  f.courses = card.pattern.repeat * card.r_l;
+  f.lx = f.courses * f.course;
+  f.ly = card.r_w * f.needle_spacing;
+  const double lx = f.lx, ly = f.ly;
+
+  auto line_of = [&](const char *key, const char *other) {
+    auto it = card.key_line.find(key);
+    if (it == card.key_line.end()) it = card.key_line.find(other);
+    return it == card.key_line.end() ? 0 : it->second;
+  };
+
+  // ---------------------------------------------------------------- fibrous layers
+  // elements at least one chain diameter long: non-neighbouring elements of one straight chain
+  // then never touch (the contact acts between all segments that share no node)
+  if (card.fibre_mesh < card.chain_diameter)
+    throw InputError(at(card.path, line_of("fibre_mesh", "chain_diameter")) +
+                     ": key 'fibre_mesh': value " + std::to_string(card.fibre_mesh) +
+                     " m is shorter than the chain diameter " +
+                     std::to_string(card.chain_diameter) + " m");
+  double base = 0.0;    // bottom surface of the next layer
+  int chain_id = 0;
+  const double dc = card.chain_diameter, rc = 0.5 * dc;
+  for (std::size_t li = 0; li < card.layers.size(); li++) {
+    const LayerSpec &spec = card.layers[li];
+    const int layer = (int) li + 1;
+    LayerInfo info;
+    info.spec = spec;
+    const NCF::Material *mat = nullptr;
+    try {
+      mat = &lib.get(spec.material);
+      info.chain = NCF::filament_chain(*mat, dc, card.packing);
+    } catch (InputError &e) {
+      throw InputError(at(card.path, spec.material_line) + ": key 'material': value '" +
+                       spec.material + "': " + e.what() + " (materials file " +
+                       card.materials_file + ")");
+    }
+    info.filament_density = mat->density;
+    info.t_l = spec.areal_weight / (card.v_l * mat->density);    // Eq. 1
+    info.chains_per_width_target = spec.areal_weight / info.chain.mass_per_length;
+
+    // main axis: the face pair the chains cross once
+    double theta = std::fmod(spec.angle, 180.0);    // fibres are lines: angle mod 180
+    if (theta <= -90.0) theta += 180.0;
+    if (theta > 90.0) theta -= 180.0;
+    const double c = std::fabs(std::cos(theta * DEG)), s = std::fabs(std::sin(theta * DEG));
+    if (c > s + 1e-12)
+      info.main_axis = 0;
+    else if (s > c + 1e-12)
+      info.main_axis = 1;
+    else
+      info.main_axis = (lx / c <= ly / s) ? 0 : 1;    // 45 deg: the shorter chains
+    // angle measured from the main axis' positive direction, in (-90, 90) for x, (0, 180) for y
+    double nominal = theta;
+    if (info.main_axis == 1 && nominal <= 0.0) nominal += 180.0;
+    info.width = info.main_axis == 0 ? ly * c : lx * s;
+    const int n = std::max(1, (int) std::lround(info.width * info.chains_per_width_target));
+    info.chains = n;
+
+    // chain angles: Gaussian around the nominal angle
+    Rng rng(card.seed * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL * (std::uint64_t) layer);
+    std::vector<double> dev(n, 0.0);
+    if (spec.sigma > 0.0) {
+      if (card.stratified) {
+        // one draw in each of n equal-probability strata, strata shuffled over the chains
+        std::vector<int> perm(n);
+        std::iota(perm.begin(), perm.end(), 0);
+        for (int i = n - 1; i > 0; i--) std::swap(perm[i], perm[rng.below(i + 1)]);
+        for (int k = 0; k < n; k++) dev[k] = normal_quantile((perm[k] + rng.uniform()) / n);
+      } else {
+        for (int k = 0; k < n; k++) dev[k] = rng.normal();
+      }
+      for (auto &d : dev) d *= spec.sigma;
+    }
+
+    // straight chains from the main face, start points evenly spaced on it
+    std::vector<Line> lines(n);
+    std::vector<std::vector<std::array<double, 2>>> pts(n);
+    double mass = 0.0;
+    for (int k = 0; k < n; k++) {
+      const double a = (nominal + dev[k]) * DEG;
+      double p0[2], dir[2] = {std::cos(a), std::sin(a)}, len;
+      // a chain must cross its main axis at a reasonable angle (within 80 deg of it)
+      if (dir[info.main_axis] < std::cos(80.0 * DEG))
+        throw InputError(at(card.path, spec.line) + ": key 'sigma': value " +
+                         std::to_string(spec.sigma) + " deg of layer " + std::to_string(layer) +
+                         " gives a chain at " + std::to_string(spec.angle + dev[k]) +
+                         " deg, more than 80 deg from the axis its chains cross (" +
+                         (info.main_axis == 0 ? "x" : "y") + "): reduce sigma");
+      if (info.main_axis == 0) {
+        p0[0] = 0.0;
+        p0[1] = (k + 0.5) * ly / n;
+        len = lx / dir[0];
+      } else {
+        p0[0] = (k + 0.5) * lx / n;
+        p0[1] = 0.0;
+        len = ly / dir[1];
+      }
+      const int nseg = std::max(2, (int) std::lround(len / card.fibre_mesh));
+      const double h = len / nseg;
+      // nodes half an element in from the main faces: the end caps of a chain and of its
+      // continuation through the opposite face are one element apart
+      for (int j = 0; j < nseg; j++)
+        pts[k].push_back({p0[0] + (j + 0.5) * h * dir[0], p0[1] + (j + 0.5) * h * dir[1]});
+      Line &L = lines[k];
+      for (int d = 0; d < 2; d++) {
+        L.p0[d] = pts[k].front()[d];
+        L.p1[d] = pts[k].back()[d];
+      }
+      L.bb[0] = std::min(L.p0[0], L.p1[0]);
+      L.bb[1] = std::max(L.p0[0], L.p1[0]);
+      L.bb[2] = std::min(L.p0[1], L.p1[1]);
+      L.bb[3] = std::max(L.p0[1], L.p1[1]);
+      mass += info.chain.mass_per_length * len;
+      info.angles.push_back(spec.angle + dev[k]);
+    }
+
+    // heights
+    const double r1 = rc * (1.0 + MARGIN);
+    bool placed = false;
+    if (spec.sigma == 0.0 && n > 1) {
+      // homogeneous mat of thickness t_L: a rank-1 lattice in (offset across the fibres, z),
+      // chain k at height index (k m mod n); m maximises the smallest distance of neighbours
+      const double sp = info.width / n;    // spacing across the fibres
+      const double dz = (info.t_l - 2.0 * r1) / (n - 1);
+      if (dz > 0.0) {
+        const int jmax = std::min(n - 1, (int) std::ceil(dc / sp));
+        double best = -1.0;
+        int best_m = 0;
+        for (int m = 1; m < n; m++) {
+          if (gcd(m, n) != 1) continue;
+          double mind = 1e300;
+          for (int j = 1; j <= jmax; j++) {
+            const int jj = std::min(j, n - j);
+            const int r = (int) (((long long) j * m) % n);
+            const int rr = std::min(r, n - r);
+            mind = std::min(mind, std::hypot(jj * sp, rr * dz));
+          }
+          if (mind > best) {
+            best = mind;
+            best_m = m;
+          }
+        }
+        if (best >= dc * (1.0 + MARGIN)) {
+          for (int k = 0; k < n; k++)
+            lines[k].z = base + r1 + dz * (double) (((long long) k * best_m) % n);
+          info.homogeneous = true;
+          info.lattice_multiplier = best_m;
+          placed = true;
+        }
+      }
+    }
+    if (!placed) {
+      // first fit: each chain, in the order of its angle (nearly parallel chains first fill the
+      // bottom like a mat; ties by start point), at the lowest height where it keeps the contact
+      // diameter from every chain placed before it (this order gave stacks 10-25 % thinner than
+      // the order of the start points or random orders; "gravity" sweeps dropping each chain
+      // afterwards moved none). Conflicts (pairs closer than d_c in projection) are found once.
+      const double zmin = base + r1;
+      std::vector<std::vector<std::pair<int, double>>> conflicts(n);    // (other chain, half-gap)
+      for (int k = 0; k < n; k++)
+        for (int q = 0; q < k; q++) {
+          const double d2d = line_distance(lines[k], lines[q], lx, ly, dc);
+          if (d2d >= dc) continue;
+          const double h = std::sqrt(dc * dc - d2d * d2d) * (1.0 + MARGIN) + MARGIN * dc;
+          conflicts[k].emplace_back(q, h);
+          conflicts[q].emplace_back(k, h);
+        }
+      std::vector<char> is_placed(n, 0);
+      auto lowest = [&](int k) {
+        std::vector<std::pair<double, double>> forbidden;
+        for (auto &qh : conflicts[k])
+          if (is_placed[qh.first])
+            forbidden.emplace_back(lines[qh.first].z - qh.second, lines[qh.first].z + qh.second);
+        std::sort(forbidden.begin(), forbidden.end());
+        double z = zmin;
+        for (auto &iv : forbidden) {
+          if (iv.first >= z) break;
+          if (iv.second > z) z = iv.second;
+        }
+        return z;
+      };
+      std::vector<int> order(n);
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return dev[a] < dev[b];
+      });
+      for (int k : order) {
+        lines[k].z = lowest(k);
+        is_placed[k] = 1;
+      }
+    }
+
+    // nodes and bonds
+    info.z_min = 1e300;
+    info.z_max = -1e300;
+    info.min_l0 = 1e300;
+    info.max_l0 = 0.0;
+    const int first_node = (int) f.fibres.nodes.size();
+    for (int k = 0; k < n; k++) {
+      ++chain_id;
+      f.fibres.diameter.push_back(dc);
+      const int start = (int) f.fibres.nodes.size();
+      const int m = (int) pts[k].size();
+      for (int j = 0; j < m; j++) {
+        Node nd;
+        nd.x[0] = pts[k][j][0];
+        nd.x[1] = pts[k][j][1];
+        nd.x[2] = lines[k].z;
+        nd.type = layer;
+        nd.layer = layer;
+        nd.chain = chain_id;
+        if (j == 0) nd.end = info.main_axis == 0 ? XLO : YLO;
+        if (j == m - 1) nd.end = info.main_axis == 0 ? XHI : YHI;
+        f.fibres.nodes.push_back(nd);
+        if (j > 0) {
+          Bond b;
+          b.i = start + j - 1;
+          b.j = start + j;
+          b.type = layer;
+          const double *p = f.fibres.nodes[b.i].x, *q = f.fibres.nodes[b.j].x;
+          b.l0 = std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                           (q[2] - p[2]) * (q[2] - p[2]));
+          info.min_l0 = std::min(info.min_l0, b.l0);
+          info.max_l0 = std::max(info.max_l0, b.l0);
+          f.fibres.bonds.push_back(b);
+          info.bonds++;
+        }
+      }
+      info.z_min = std::min(info.z_min, lines[k].z);
+      info.z_max = std::max(info.z_max, lines[k].z);
+    }
+    info.nodes = (int) f.fibres.nodes.size() - first_node;
+    info.stack = info.z_max - info.z_min + dc;
+    info.node_mass = card.mass_scaling * mass / info.nodes;
+    info.dt_crit =
+        info.min_l0 * std::sqrt(info.chain.density * card.mass_scaling / info.chain.modulus);
+    double mean = 0.0, var = 0.0;
+    for (double a : info.angles) mean += a;
+    mean /= n;
+    for (double a : info.angles) var += (a - mean) * (a - mean);
+    info.angle_mean = mean;
+    info.angle_std = n > 1 ? std::sqrt(var / (n - 1)) : 0.0;
+    // the next layer starts above this one: t_L for a homogeneous mat, else the stack's top
+    base = info.homogeneous ? base + info.t_l : info.z_max + rc * (1.0 + MARGIN);
+    f.thickness += info.t_l;
+    f.layers.push_back(info);
+  }
+  f.stack_top = base;
+
+  // ---------------------------------------------------------------- stitching yarn
+  YarnInfo &y = f.yarn;
+  y.present = true;
+  try {
+    y.chain = NCF::yarn_chain(lib.get(card.yarn));
+  } catch (InputError &e) {
+    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
+                     "': " + e.what() + " (materials file " + card.materials_file + ")");
+  }
+  const double dy = y.chain.diameter, ry = 0.5 * dy;
+  if (card.yarn_mesh < dy)
+    throw InputError(at(card.path, line_of("yarn_mesh", "yarn")) + ": key 'yarn_mesh': value " +
+                     std::to_string(card.yarn_mesh) + " m is shorter than the yarn diameter " +
+                     std::to_string(dy) + " m");
+  // the yarn wraps the compacted mat 0 <= z <= sum t_L, touching its faces
+  const double zb = -ry * (1.0 + MARGIN), zt = f.thickness + ry * (1.0 + MARGIN);
+  const double zloop = card.loops_bottom ? zb : zt, zunder = card.loops_bottom ? zt : zb;
+  y.z_bottom = zb;
+  y.z_top = zt;
+  y.leg_offset = 0.5 * card.leg_gap * dy;
+  const double e = y.leg_offset;
+  if (2.0 * e + dy >= f.course)
+    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
+                     "': yarn diameter " + std::to_string(dy) +
+                     " m is too large for the stitch length (legs of neighbouring holes overlap)");
+  const std::vector<int> &needle = card.pattern.needle;
+  const int p = card.pattern.repeat;
+  y.yarns = card.r_w;
+  double total_length = 0.0;    // of all yarns
+  y.min_l0 = 1e300;
+  for (int w = 0; w < card.r_w; w++) {
+    // corner points of the idealised path over the RVE length: per course c, down through the
+    // hole (c, n_c) just after its centre, the loop along +x on the loop face, up through the
+    // hole (c+1, n_c) just before its centre, the underlap on the other face to hole (c+1, n_c+1)
+    std::vector<std::array<double, 3>> corners;
+    for (int c = 0; c < f.courses; c++) {
+      const double yn = (needle[c % p] + w + 0.5) * f.needle_spacing;
+      const double xc = (c + 0.5) * f.course, xn = xc + f.course;
+      corners.push_back({xc + e, yn, zunder});
+      corners.push_back({xc + e, yn, zloop});
+      corners.push_back({xn - e, yn, zloop});
+      corners.push_back({xn - e, yn, zunder});
+    }
+    // close the loop: the first corner of the next period, one RVE length further along x
+    std::array<double, 3> closing = corners.front();
+    closing[0] += lx;
+    ++chain_id;
+    const int chain = (int) (chain_id - f.fibres.diameter.size());    // ids from 1 in the yarn file
+    f.stitch.diameter.push_back(dy);
+    const int start = (int) f.stitch.nodes.size();
+    for (std::size_t k = 0; k < corners.size(); k++) {
+      const auto &a = corners[k];
+      const auto &b = (k + 1 < corners.size()) ? corners[k + 1] : closing;
+      const double len = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                                   (b[2] - a[2]) * (b[2] - a[2]));
+      total_length += len;
+      // elements of at most yarn_mesh, but not shorter than the yarn diameter
+      const int nseg = std::max(1,
+                                std::min((int) std::ceil(len / card.yarn_mesh - 1e-9),
+                                         (int) std::floor(len / dy + 1e-9)));
+      for (int j = 0; j < nseg; j++) {
+        Node nd;
+        const double t = (double) j / nseg;
+        for (int d = 0; d < 3; d++) nd.x[d] = a[d] + t * (b[d] - a[d]);
+        nd.type = f.yarn_type();
+        nd.layer = 0;
+        nd.chain = chain;
+        f.stitch.nodes.push_back(nd);
+      }
+    }
+    const int end = (int) f.stitch.nodes.size();
+    for (int i = start; i < end; i++) {
+      Bond b;
+      b.i = i;
+      b.j = (i + 1 < end) ? i + 1 : start;
+      b.type = f.yarn_type();
+      double q[3];
+      for (int d = 0; d < 3; d++) q[d] = f.stitch.nodes[b.j].x[d];
+      if (b.j == start) q[0] += lx;    // the closing bond crosses the x face
+      const double *pp = f.stitch.nodes[b.i].x;
+      b.l0 = std::sqrt((q[0] - pp[0]) * (q[0] - pp[0]) + (q[1] - pp[1]) * (q[1] - pp[1]) +
+                       (q[2] - pp[2]) * (q[2] - pp[2]));
+      y.min_l0 = std::min(y.min_l0, b.l0);
+      y.max_l0 = std::max(y.max_l0, b.l0);
+      f.stitch.bonds.push_back(b);
+    }
+  }
+  y.nodes = (int) f.stitch.nodes.size();
+  y.bonds = (int) f.stitch.bonds.size();
+  y.length_per_yarn = total_length / y.yarns;
+  y.areal_weight = y.chain.mass_per_length * total_length / (lx * ly);
+  y.node_mass = card.mass_scaling * y.chain.mass_per_length * total_length / y.nodes;
+  y.dt_crit = y.min_l0 * std::sqrt(y.chain.density * card.mass_scaling / y.chain.modulus);
+
+  // ---------------------------------------------------------------- needles: every stitching point
+  for (int c = 0; c < f.courses; c++)
+    for (int w = 0; w < card.r_w; w++)
+      f.needles.emplace_back((c + 0.5) * f.course, (w + 0.5) * f.needle_spacing);
+
+  // ---------------------------------------------------------------- box in z
+  const double top = std::max(f.stack_top, zt + ry);
+  const double bottom = std::min(0.0, zb - ry);
+  const double pad = 0.5 * (top - bottom);
+  f.zlo = bottom - pad;
+  f.zhi = top + pad;
+
+  // ---------------------------------------------------------------- the promise: no overlap
+  const Clearance cl = min_clearance(part_segments(f.fibres, lx), lx, ly);
+  const Clearance cy = min_clearance(part_segments(f.stitch, lx), lx, ly);
+  f.fibre_gap = cl.gap;
+  f.fibre_distance = cl.distance;
+  f.yarn_gap = cy.gap;
+  if (cl.gap < 0.0 || cy.gap < 0.0)
+    throw InputError(card.path + ": internal check failed: generated " +
+                     (cl.gap < 0.0 ? "chains" : "yarn segments") + " overlap by " +
+                     std::to_string(-std::min(cl.gap, cy.gap)) +
+                     " m; please report this card as a bug of ncf-gen");
+  return f;
+}
+
+std::vector<Segment> part_segments(const Part &part, double lx)
+{
+  std::vector<Segment> out;
+  for (const Bond &b : part.bonds) {
+    Segment sg;
+    for (int d = 0; d < 3; d++) {
+      sg.a[d] = part.nodes[b.i].x[d];
+      sg.b[d] = part.nodes[b.j].x[d];
+    }
+    // a closing bond of a yarn loop: its far end is one period further along x
+    if (sg.b[0] < sg.a[0] - 0.5 * lx) sg.b[0] += lx;
+    sg.chain = part.nodes[b.i].chain;
+    sg.na = b.i;
+    sg.nb = b.j;
+    sg.radius = 0.5 * part.diameter[sg.chain - 1];
+    out.push_back(sg);
+  }
+  return out;
+}
+
+}    // namespace NCFGEN
