@@ -141,12 +141,16 @@ TEST(GenLapping, NamedPatternsAndTheirRepeats)
   EXPECT_EQ(parse_lapping("0-1/2-1/2-3/1-2//", "c").needle, (std::vector<int>{0, 1, 2, 1}));
   EXPECT_EQ(parse_lapping("1-0/1-2/2-3/3-4/3-2/2-1", "c").needle,
             (std::vector<int>{0, 1, 2, 3, 2, 1}));
+  // wide underlaps: cord (two needles), satin (three)
+  EXPECT_EQ(parse_lapping("1-0/2-3//", "c").max_underlap, 2);
+  EXPECT_EQ(parse_lapping("1-0/3-4//", "c").max_underlap, 3);
+  EXPECT_EQ(parse_lapping("tricot", "c").max_underlap, 1);
 }
 
 TEST(GenLapping, MalformedNotationNamesTheValue)
 {
   for (const char *bad :
-       {"satin", "1-0/", "1-0/1-x//", "10//", "-1/0-1//", "1-3/2-1//", "2-2//", "1-0/2-3//"}) {
+       {"satin", "1-0/", "1-0/1-x//", "10//", "-1/0-1//", "1-3/2-1//", "2-2//"}) {
     try {
       parse_lapping(bad, "card:7");
       ADD_FAILURE() << bad << " accepted";
@@ -162,7 +166,8 @@ TEST(GenRve, SizesPerPattern)
   struct Case {
     const char *pattern;
     int courses;
-  } cases[] = {{"pillar", 1}, {"tricot", 2}, {"tricot-chain", 4}, {"1-0/1-2/2-3/2-1//", 4}};
+  } cases[] = {{"pillar", 1},           {"tricot", 2},     {"tricot-chain", 4},
+               {"1-0/1-2/2-3/2-1//", 4}, {"1-0/2-3//", 2}, {"1-0/3-4//", 2}};
   for (auto &c : cases)
     for (int rw : {1, 2})
       for (int rl : {1, 3}) {
@@ -182,6 +187,21 @@ TEST(GenRve, SizesPerPattern)
   EXPECT_NEAR(a.ly, 5.08e-3, 1e-15);
   EXPECT_NEAR(b.lx, 3 * 4.4e-3, 1e-15);
   EXPECT_NEAR(b.ly, 3 * 5.08e-3, 1e-15);
+}
+
+TEST(GenYarn, WideUnderlapsKeepClearOfEachOther)
+{
+  // cord (underlaps over 2 needles) and a 3-needle satin: the underlaps of neighbouring yarns
+  // cover the same stretch; with the legs opened to k yarn diameters nothing overlaps
+  for (const char *pattern : {"1-0/2-3//", "1-0/3-4//"})
+    for (int rw : {1, 3}) {
+      const std::string text = card_text(layer(45, 150, 2, CT24) + "pattern " + pattern +
+                                             "\ngauge 5\nstitch_length 2.2 mm\nyarn PES_7.6tex\n",
+                                         "rve " + std::to_string(rw) + " 1\n");
+      Fabric f = build(text);    // throws if any two yarn segments overlap
+      EXPECT_GE(f.yarn_gap, 0.0) << pattern << " rw " << rw;
+      EXPECT_GE(f.yarn.leg_offset, 0.5 * parse_lapping(pattern, "c").max_underlap * 87.9e-6);
+    }
 }
 
 // ------------------------------------------------------------------ fibrous layers

@@ -39,6 +39,7 @@ struct Lapping {
   std::vector<std::pair<int, int>> laps;    // overlap (a-b) of each course in the notation
   std::vector<int> needle;                  // needle of the loop of each course, min(a, b)
   int repeat = 0;                           // courses of the idealised path's repeat
+  int max_underlap = 0;                     // widest underlap, in needles
 };
 
 // Parses warp-knitting lapping notation ("1-0/1-2//") or a named pattern (pillar, chain, tricot,

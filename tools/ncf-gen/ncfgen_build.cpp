@@ -383,7 +383,12 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   const double zloop = card.loops_bottom ? zb : zt, zunder = card.loops_bottom ? zt : zb;
   y.z_bottom = zb;
   y.z_top = zt;
-  y.leg_offset = 0.5 * card.leg_gap * dy;
+  // An underlap over k needles runs from one hole's up-leg to the next course's down-leg, 2e
+  // apart along x, so those of neighbouring yarns are parallel and 2e/k apart, and an underlap
+  // crossing a hole passes between that hole's two legs: legs at least k yarn diameters apart
+  // (plus the leg gap margin) keep wide underlaps (cord, satin) clear of each other.
+  const int kmax = card.pattern.max_underlap;
+  y.leg_offset = 0.5 * card.leg_gap * dy * std::max(1, kmax);
   const double e = y.leg_offset;
   if (2.0 * e + dy >= f.course)
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +

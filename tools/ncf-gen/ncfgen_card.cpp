@@ -162,17 +162,12 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
     }
   }
   lap.needle.resize(lap.repeat);
-  // underlaps (from the loop of one course to the next) over more than one needle would lie on
-  // the underlaps and legs of the neighbouring yarns of a fully threaded bar in the idealised path
-  for (int c = 0; c < lap.repeat; c++) {
-    const int move = lap.needle[(c + 1) % lap.repeat] - lap.needle[c];
-    if (std::abs(move) > 1)
-      fail(where,
-           "key 'pattern': value '" + text + "': the underlap after course " +
-               std::to_string(c + 1) + " crosses " + std::to_string(std::abs(move)) +
-               " needles; only underlaps over 0 or 1 needle are supported (wider ones "
-               "would overlap the neighbouring yarns in the idealised path)");
-  }
+  // widest underlap (from the loop of one course to the next), in needles: underlaps over two or
+  // more needles get a sloped path in the generator so that those of neighbouring yarns stack
+  lap.max_underlap = 0;
+  for (int c = 0; c < lap.repeat; c++)
+    lap.max_underlap =
+        std::max(lap.max_underlap, std::abs(lap.needle[(c + 1) % lap.repeat] - lap.needle[c]));
   return lap;
 }
 
