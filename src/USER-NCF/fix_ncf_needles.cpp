@@ -1,0 +1,367 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   fix ncf/needles (see fix_ncf_needles.h, doc/fix_ncf_needles.md)
+
+   Every chain segment (bond) with both nodes in the group is tested against every needle at its
+   closest periodic image. The contact is NCF::segment_contact with the needle's axis (tip to
+   tip + length) as segment B and the contact distance needle radius + chain radius: exact,
+   conservative, continuous, and with the weight ramp at the tip as the needle's point.
+   Segments are visited from both of their nodes (through the 1-2 special list), and each owner
+   applies the force on its own node only: no ghost forces, no communication, every segment's
+   force complete once.
+------------------------------------------------------------------------- */
+
+#include "fix_ncf_needles.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "input.h"
+#include "update.h"
+#include "variable.h"
+
+#include "ncf_contact.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+/* ----------------------------------------------------------------------
+   fix ID group ncf/needles diameter DN kn KN chain TYPES D [chain TYPES D ...]
+       (file FILE | at X Y [at X Y ...]) MOTION [tip L] [length H] [direction down|up]
+   MOTION: move Z0 V | target Z0 ZT V | v_NAME   (height of the tips)
+------------------------------------------------------------------------- */
+
+FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), motion(-1),
+    z0(0.0), ztarget(0.0), speed(0.0), t0(0.0), ivar(-1), ztip(0.0), energy(0.0), maxpen(0.0),
+    ncontact(0)
+{
+  scalar_flag = 1;
+  vector_flag = 1;
+  size_vector = 5;
+  array_flag = 1;
+  size_array_cols = 3;
+  global_freq = 1;
+  extscalar = 1;
+  extvector = extarray = 0;
+  energy_global_flag = 1;
+  restart_global = 1;
+
+  chain_d.assign(atom->ntypes + 1, 0.0);
+  auto number = [&](int i, const char *key) {
+    if (i >= narg) error->all(FLERR, "fix ncf/needles: keyword '{}' needs more values", key);
+    if (!utils::is_double(arg[i]))
+      error->all(FLERR, "fix ncf/needles: value '{}' of '{}' is not a number", arg[i], key);
+    return utils::numeric(FLERR, arg[i], false, lmp);
+  };
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (key == "diameter") {
+      const double d = number(iarg + 1, "diameter");
+      if (!(d > 0.0)) error->all(FLERR, "fix ncf/needles: diameter {} must be > 0", arg[iarg + 1]);
+      radius = 0.5 * d;
+      iarg += 2;
+    } else if (key == "kn") {
+      kn = number(iarg + 1, "kn");
+      if (!(kn > 0.0)) error->all(FLERR, "fix ncf/needles: kn {} must be > 0", arg[iarg + 1]);
+      iarg += 2;
+    } else if (key == "tip") {
+      tip = number(iarg + 1, "tip");
+      if (!(tip > 0.0)) error->all(FLERR, "fix ncf/needles: tip {} must be > 0", arg[iarg + 1]);
+      iarg += 2;
+    } else if (key == "length") {
+      length = number(iarg + 1, "length");
+      if (!(length > 0.0))
+        error->all(FLERR, "fix ncf/needles: length {} must be > 0", arg[iarg + 1]);
+      iarg += 2;
+    } else if (key == "chain") {
+      if (iarg + 2 >= narg)
+        error->all(FLERR,
+                   "fix ncf/needles: keyword 'chain' needs an atom type range and a diameter");
+      int lo, hi;
+      utils::bounds(FLERR, arg[iarg + 1], 1, atom->ntypes, lo, hi, error);
+      const double d = number(iarg + 2, "chain");
+      if (!(d > 0.0))
+        error->all(FLERR, "fix ncf/needles: chain diameter {} must be > 0", arg[iarg + 2]);
+      for (int t = lo; t <= hi; t++) chain_d[t] = d;
+      iarg += 3;
+    } else if (key == "at") {
+      nx.push_back(number(iarg + 1, "at"));
+      ny.push_back(number(iarg + 2, "at"));
+      iarg += 3;
+    } else if (key == "file") {
+      if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'file' needs a file name");
+      read_needles(arg[iarg + 1]);
+      iarg += 2;
+    } else if (key == "direction") {
+      if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'direction' needs a value");
+      const std::string v = arg[iarg + 1];
+      if (v == "down")
+        direction = -1;
+      else if (v == "up")
+        direction = 1;
+      else
+        error->all(FLERR, "fix ncf/needles: direction '{}' is not one of down, up", v);
+      iarg += 2;
+    } else if (key == "move") {
+      motion = MOVE;
+      z0 = number(iarg + 1, "move");
+      speed = number(iarg + 2, "move");
+      iarg += 3;
+    } else if (key == "target") {
+      motion = TARGET;
+      z0 = number(iarg + 1, "target");
+      ztarget = number(iarg + 2, "target");
+      speed = std::fabs(number(iarg + 3, "target"));
+      if (speed == 0.0) error->all(FLERR, "fix ncf/needles: 'target' needs a speed > 0");
+      iarg += 4;
+    } else if (utils::strmatch(key, "^v_")) {
+      motion = VARIABLE;
+      var = key.substr(2);
+      ivar = input->variable->find(var.c_str());
+      if (ivar < 0) error->all(FLERR, "fix ncf/needles: variable '{}' does not exist", var);
+      if (!input->variable->equalstyle(ivar))
+        error->all(FLERR, "fix ncf/needles: variable '{}' is not equal-style", var);
+      iarg += 1;
+    } else
+      error->all(FLERR, "fix ncf/needles: unknown keyword '{}'", key);
+  }
+  if (radius == 0.0)
+    error->all(FLERR, "fix ncf/needles: keyword 'diameter' (of the needles) is required");
+  if (kn == 0.0)
+    error->all(FLERR, "fix ncf/needles: keyword 'kn' (contact stiffness, Pa) is required");
+  if (nx.empty()) error->all(FLERR, "fix ncf/needles: no needle: give 'file FILE' or 'at X Y'");
+  if (motion < 0)
+    error->all(FLERR, "fix ncf/needles: give the motion of the tips: move, target or v_NAME");
+  bool any = false;
+  for (double d : chain_d) any |= d > 0.0;
+  if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
+  if (tip < 0.0) tip = radius;
+  if (length < 0.0) length = domain->boxhi[2] - domain->boxlo[2];
+  if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
+
+  size_array_rows = (int) nx.size();
+  fneedle.assign(3 * nx.size(), 0.0);
+  t0 = elapsed();
+  update_tip();
+}
+
+FixNCFNeedles::~FixNCFNeedles() = default;
+
+void FixNCFNeedles::read_needles(const std::string &file)
+{
+  // every rank reads the small file; lines "x y", '#' comments
+  std::ifstream in(file);
+  if (!in) error->all(FLERR, "fix ncf/needles: cannot open needle file {}", file);
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const auto pos = line.find('#');
+    if (pos != std::string::npos) line.erase(pos);
+    std::istringstream words(line);
+    std::string a, b, extra;
+    if (!(words >> a)) continue;
+    if (!(words >> b) || (words >> extra) || !utils::is_double(a) || !utils::is_double(b))
+      error->all(FLERR, "fix ncf/needles: {}:{}: expected 'x y', got '{}'", file, lineno, line);
+    nx.push_back(std::stod(a));
+    ny.push_back(std::stod(b));
+  }
+}
+
+int FixNCFNeedles::setmask()
+{
+  return POST_FORCE;
+}
+
+void FixNCFNeedles::init()
+{
+  if (motion == VARIABLE) {
+    ivar = input->variable->find(var.c_str());
+    if (ivar < 0) error->all(FLERR, "fix ncf/needles: variable '{}' does not exist", var);
+  }
+  if (atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR, "fix ncf/needles needs an atom map (atom_modify map array or hash)");
+}
+
+double FixNCFNeedles::elapsed() const
+{
+  return update->atime + (update->ntimestep - update->atimestep) * update->dt;
+}
+
+void FixNCFNeedles::update_tip()
+{
+  const double t = elapsed() - t0;
+  if (motion == MOVE)
+    ztip = z0 + speed * t;
+  else if (motion == TARGET) {
+    const double dist = std::fabs(ztarget - z0), dir = ztarget >= z0 ? 1.0 : -1.0;
+    ztip = speed * t >= dist ? ztarget : z0 + dir * speed * t;
+  } else
+    ztip = input->variable->compute_equal(ivar);
+}
+
+void FixNCFNeedles::setup(int vflag)
+{
+  post_force(vflag);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNCFNeedles::post_force(int /*vflag*/)
+{
+  update_tip();
+  double **x = atom->x, **f = atom->f;
+  int *mask = atom->mask, *type = atom->type;
+  tagint **special = atom->special;
+  int **nspecial = atom->nspecial;
+  const int nlocal = atom->nlocal;
+  const int nn = (int) nx.size();
+
+  std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, max pen
+  double emine = 0.0, penmine = 0.0;
+  int cmine = 0, missing = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const double di = chain_d[type[i]];
+    if (di <= 0.0) continue;
+    for (int s = 0; s < nspecial[i][0]; s++) {
+      int j = atom->map(special[i][s]);
+      if (j < 0) {
+        missing++;
+        continue;
+      }
+      j = domain->closest_image(i, j);
+      if (!(mask[j] & groupbit)) continue;
+      const double dc = radius + 0.5 * di;
+      const NCF::Vec3 a0{x[i][0], x[i][1], x[i][2]}, a1{x[j][0], x[j][1], x[j][2]};
+      // the segment's extent in z, to skip needles whose tip has not reached it
+      const double zmin = std::min(a0.z, a1.z) - dc - tip, zmax = std::max(a0.z, a1.z) + dc + tip;
+      const double zb = ztip, ze = ztip - direction * length;
+      if (std::max(zb, ze) < zmin || std::min(zb, ze) > zmax) continue;
+      for (int k = 0; k < nn; k++) {
+        // the needle's closest image to the segment's midpoint
+        double d[3] = {0.5 * (a0.x + a1.x) - nx[k], 0.5 * (a0.y + a1.y) - ny[k], 0.0};
+        domain->minimum_image(d[0], d[1], d[2]);
+        const double cx = 0.5 * (a0.x + a1.x) - d[0], cy = 0.5 * (a0.y + a1.y) - d[1];
+        const double half =
+            0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
+        if (d[0] * d[0] + d[1] * d[1] > (half + dc) * (half + dc)) continue;
+        const NCF::Vec3 b0{cx, cy, zb}, b1{cx, cy, ze};
+        const NCF::SegmentContact c = NCF::segment_contact(a0, a1, b0, b1, dc, kn, 0.5 * tip);
+        if (!c.active) continue;
+        // visited from both nodes: each applies its own node's force, and half the energy
+        f[i][0] += c.f[0].x;
+        f[i][1] += c.f[0].y;
+        f[i][2] += c.f[0].z;
+        local[3 * k + 0] -= c.f[0].x;
+        local[3 * k + 1] -= c.f[0].y;
+        local[3 * k + 2] -= c.f[0].z;
+        emine += 0.5 * c.energy;
+        penmine = std::max(penmine, c.penetration);
+        cmine++;
+      }
+    }
+  }
+  if (missing)
+    error->one(FLERR, "fix ncf/needles: {} bond partner(s) of local nodes are missing", missing);
+  local[3 * nn] = emine;
+  local[3 * nn + 1] = cmine;
+  std::vector<double> all(local.size());
+  MPI_Allreduce(local.data(), all.data(), (int) local.size(), MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&penmine, &maxpen, 1, MPI_DOUBLE, MPI_MAX, world);
+  std::copy(all.begin(), all.begin() + 3 * nn, fneedle.begin());
+  energy = all[3 * nn];
+  ncontact = (int) std::lround(all[3 * nn + 1] / 2.0);    // each segment seen from both nodes
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixNCFNeedles::compute_scalar()
+{
+  return energy;
+}
+
+// 1 tip height, 2 total force of the fabric on the needles along z, 3 segment-needle contacts,
+// 4 largest penetration, 5 largest lateral force on one needle
+double FixNCFNeedles::compute_vector(int n)
+{
+  const int nn = (int) nx.size();
+  if (n == 0) return ztip;
+  if (n == 1) {
+    double fz = 0.0;
+    for (int k = 0; k < nn; k++) fz += fneedle[3 * k + 2];
+    return fz;
+  }
+  if (n == 2) return ncontact;
+  if (n == 3) return maxpen;
+  double fmax = 0.0;
+  for (int k = 0; k < nn; k++)
+    fmax = std::max(
+        fmax, std::sqrt(fneedle[3 * k] * fneedle[3 * k] + fneedle[3 * k + 1] * fneedle[3 * k + 1]));
+  return fmax;
+}
+
+double FixNCFNeedles::compute_array(int i, int j)
+{
+  return fneedle[3 * i + j];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixNCFNeedles::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  double buf[5] = {t0, (double) motion, z0, ztarget, speed};
+  int size = sizeof(buf);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(buf, sizeof(double), 5, fp);
+}
+
+void FixNCFNeedles::restart(char *raw)
+{
+  auto *buf = (double *) raw;
+  if ((int) buf[1] != motion || buf[2] != z0 || buf[3] != ztarget || buf[4] != speed) {
+    if (comm->me == 0)
+      error->warning(
+          FLERR,
+          "fix ncf/needles: motion defined differently from the restart file: it starts anew");
+    return;
+  }
+  t0 = buf[0];
+  update_tip();
+}
+
+/* ----------------------------------------------------------------------
+   dump image ... fix ID type: each needle as a line (cylinder) from its tip
+------------------------------------------------------------------------- */
+
+int FixNCFNeedles::image(int *&ivec, double **&darray)
+{
+  const int nn = (int) nx.size();
+  imgtype.assign(nn, 1);    // LINE in dump image
+  imgbuf.assign(7 * nn, 0.0);
+  imgrows.resize(nn);
+  for (int k = 0; k < nn; k++) {
+    double *r = &imgbuf[7 * k];
+    r[0] = 1;
+    r[1] = nx[k];
+    r[2] = ny[k];
+    r[3] = ztip;
+    r[4] = nx[k];
+    r[5] = ny[k];
+    r[6] = ztip - direction * length;
+    imgrows[k] = r;
+  }
+  ivec = imgtype.data();
+  darray = imgrows.data();
+  return nn;
+}

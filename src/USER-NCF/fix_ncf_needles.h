@@ -1,0 +1,70 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   fix ncf/needles: needle indenters at the stitching points, moving along z, in contact with
+   chain *segments* (a needle can pass between two nodes). Contact law: the line-to-line penalty
+   of ncf_contact.h with the needle axis as the second segment; see doc/fix_ncf_needles.md.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(ncf/needles,FixNCFNeedles);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_NCF_NEEDLES_H
+#define LMP_FIX_NCF_NEEDLES_H
+
+#include "fix.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixNCFNeedles : public Fix {
+ public:
+  FixNCFNeedles(class LAMMPS *, int, char **);
+  ~FixNCFNeedles() override;
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void post_force(int) override;
+  double compute_scalar() override;
+  double compute_vector(int) override;
+  double compute_array(int, int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  int image(int *&, double **&) override;
+
+ protected:
+  enum Motion { MOVE, TARGET, VARIABLE };
+  std::vector<double> nx, ny;    // needle axes
+  double radius;                 // needle radius
+  double tip;                    // length of the tip taper
+  double length;                 // needle length from the tip
+  double kn;
+  int direction;                  // -1: tip points down (shaft above), +1: tip points up
+  std::vector<double> chain_d;    // chain diameter per atom type (0 = not in contact)
+  int motion;
+  double z0, ztarget, speed, t0;
+  std::string var;
+  int ivar;
+  double ztip;
+
+  std::vector<double> fneedle;    // per needle: force of the fabric on the needle (3), reduced
+  double energy, maxpen;
+  int ncontact;
+
+  std::vector<int> imgtype;
+  std::vector<double> imgbuf;
+  std::vector<double *> imgrows;
+
+  void read_needles(const std::string &file);
+  double elapsed() const;
+  void update_tip();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

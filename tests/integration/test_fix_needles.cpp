@@ -1,0 +1,171 @@
+// Integration tests of fix ncf/needles: segment-based needle contact.
+
+#include "ncf_contact.h"
+#include "ncf_lammps_test.h"
+
+#include "fmt/format.h"
+#include "lammps.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace ncftest;
+using ::testing::HasSubstr;
+
+namespace {
+
+const double DC = 69e-6, DN = 0.5e-3, KN = 1e8;
+
+// one chain along x at y = y0, z = 0 with n nodes of spacing a, periodic box [0, n a) in x
+std::string write_chain(const std::string &dir, int n, double a, double y0)
+{
+  const std::string path = dir + "/chain.data";
+  FILE *fp = fopen(path.c_str(), "w");
+  fprintf(fp, "chain\n\n%d atoms\n1 atom types\n%d bonds\n1 bond types\n\n", n, n);
+  fprintf(fp, "0 %.17g xlo xhi\n-2e-3 2e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\nMasses\n\n1 1e-9\n\n", n * a);
+  fprintf(fp, "Atoms # bond\n\n");
+  for (int i = 0; i < n; i++) fprintf(fp, "%d 1 1 %.17g %.17g 0\n", i + 1, (i + 0.5) * a, y0);
+  fprintf(fp, "\nBonds\n\n");
+  for (int i = 0; i < n; i++) fprintf(fp, "%d 1 %d %d\n", i + 1, i + 1, (i + 1) % n + 1);    // a ring
+  fclose(fp);
+  return path;
+}
+
+void load(Lammps &l, const std::string &data)
+{
+  l.cmds(R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+comm_modify cutoff 2e-3
+bond_style ncf/chain
+)");
+  l.cmd("read_data " + data);
+  l.cmd("bond_coeff 1 ea 100");
+}
+
+// independent sum of the kernel over the ring's segments against one needle axis
+NCF::Vec3 kernel_force_on_needle(int n, double a, double y0, double nxp, double nyp, double ztip,
+                                 double len, double tip)
+{
+  NCF::Vec3 fsum;
+  for (int i = 0; i < n; i++) {
+    NCF::Vec3 a0{(i + 0.5) * a, y0, 0}, a1{(i + 1.5) * a, y0, 0};
+    NCF::Vec3 b0{nxp, nyp, ztip}, b1{nxp, nyp, ztip + len};
+    // the needle's image nearest to this segment (box length n a in x)
+    const double mid = (i + 1.0) * a, L = n * a;
+    double dx = mid - nxp;
+    dx -= L * std::round(dx / L);
+    b0.x = b1.x = mid - dx;
+    auto c = NCF::segment_contact(a0, a1, b0, b1, 0.5 * (DN + DC), KN, 0.5 * tip);
+    fsum += c.f[2] + c.f[3];
+  }
+  return fsum;
+}
+
+}    // namespace
+
+TEST(FixNeedles, ForceMatchesTheKernelAndBalances)
+{
+  // a needle pierces a chain midway between two nodes (elements 1 mm long), offset 0.2 mm
+  auto dir = scratch_dir("needles_kernel");
+  const int n = 4;
+  const double a = 1e-3, y0 = 0.0, off = 0.2e-3;
+  Lammps l;
+  load(l, write_chain(dir, n, a, y0));
+  l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at {} {} move -1e-4 0 length 1.5e-3 tip 1e-4",
+                    DN, KN, DC, 2.0e-3, y0 + off));
+  l.cmd("run 0");
+  auto expect = kernel_force_on_needle(n, a, y0, 2.0e-3, y0 + off, -1e-4, 1.5e-3, 1e-4);
+  ASSERT_GT(std::fabs(expect.y), 1e-6);    // the needle really touches the segment between nodes
+  EXPECT_NEAR(l.value("f_nd[1][2]"), expect.y, 1e-9 * std::fabs(expect.y));
+  EXPECT_NEAR(l.value("f_nd[1][1]"), expect.x, 1e-9 * std::fabs(expect.y));
+  // Newton's third law: the forces on the chain's nodes balance the needle's
+  auto f = l.forces();
+  double fy = 0;
+  for (int i = 0; i < n; i++) fy += f[3 * i + 1];
+  EXPECT_NEAR(fy, -expect.y, 1e-9 * std::fabs(expect.y));
+  EXPECT_LT(fy, 0.0);                  // the chain is pushed away from the needle (at +y)
+  EXPECT_EQ(l.value("f_nd[3]"), 1.0);    // one segment, touched between its nodes
+}
+
+TEST(FixNeedles, NeedleAcrossThePeriodicBoundary)
+{
+  // the same needle shifted by one box length: same force (closest image)
+  auto dir = scratch_dir("needles_pbc");
+  const int n = 4;
+  const double a = 1e-3, off = 0.2e-3;
+  double f1 = 0, f2 = 0;
+  for (double xn : {1.5e-3, 1.5e-3 + 4e-3}) {
+    Lammps l;
+    load(l, write_chain(dir, n, a, 0.0));
+    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at {} {} move -1e-4 0 length 1.5e-3",
+                      DN, KN, DC, xn, off));
+    l.cmd("run 0");
+    (xn < 3e-3 ? f1 : f2) = l.value("f_nd[1][2]");
+  }
+  EXPECT_NE(f1, 0.0);
+  EXPECT_NEAR(f2, f1, 1e-12 * std::fabs(f1));
+}
+
+TEST(FixNeedles, TipAboveTheChainTouchesNothingThenPiercing)
+{
+  auto dir = scratch_dir("needles_motion");
+  Lammps l;
+  load(l, write_chain(dir, 4, 1e-3, 0.0));
+  // tip starts 0.6 mm above the chain and moves down at 100 m/s (no integrator: the chain stays)
+  l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 2e-4 target 6e-4 -6e-4 100 length 2e-3",
+                    DN, KN, DC));
+  l.cmd("timestep 1e-8");
+  l.cmd("run 100");    // tip at 0.5 mm: above the chain
+  EXPECT_NEAR(l.value("f_nd[1]"), 5e-4, 1e-15);
+  EXPECT_EQ(l.value("f_nd[3]"), 0.0);
+  l.cmd("run 900");    // tip at -0.4 mm: through the chain
+  EXPECT_NEAR(l.value("f_nd[1]"), -4e-4, 1e-15);
+  EXPECT_EQ(l.value("f_nd[3]"), 1.0);
+  l.cmd("run 1000");
+  EXPECT_EQ(l.value("f_nd[1]"), -6e-4);    // stopped at the target
+}
+
+struct BadNeedle {
+  const char *args;
+  const char *message;
+};
+
+class FixNeedlesErrors : public ::testing::TestWithParam<BadNeedle> {};
+
+TEST_P(FixNeedlesErrors, NameTheProblem)
+{
+  auto dir = scratch_dir("needles_errors");
+  Lammps l;
+  load(l, write_chain(dir, 4, 1e-3, 0.0));
+  FILE *fp = fopen((dir + "/bad.needles").c_str(), "w");
+  fprintf(fp, "# x y\n1e-3 2e-3\n1e-3\n");
+  fclose(fp);
+  std::string args = GetParam().args;
+  const auto pos = args.find("DIR");
+  if (pos != std::string::npos) args.replace(pos, 3, dir);
+  EXPECT_THAT(error_of([&] { l.cmd("fix nd all ncf/needles " + args); }), HasSubstr(GetParam().message)) << args;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, FixNeedlesErrors,
+    ::testing::Values(
+        BadNeedle{"kn 1e8 chain 1 69e-6 at 0 0 move 0 0", "fix ncf/needles: keyword 'diameter' (of the needles) is required"},
+        BadNeedle{"diameter 5e-4 chain 1 69e-6 at 0 0 move 0 0", "fix ncf/needles: keyword 'kn' (contact stiffness, Pa) is required"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 move 0 0", "fix ncf/needles: no needle: give 'file FILE' or 'at X Y'"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0", "fix ncf/needles: give the motion of the tips"},
+        BadNeedle{"diameter 5e-4 kn 1e8 at 0 0 move 0 0", "fix ncf/needles: give the chain diameters: 'chain TYPES D'"},
+        BadNeedle{"diameter -5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0", "fix ncf/needles: diameter -5e-4 must be > 0"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 move 0 0", "fix ncf/needles: value 'move' of 'at' is not a number"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0", "fix ncf/needles: keyword 'move' needs more values"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 target 0 1 0", "fix ncf/needles: 'target' needs a speed > 0"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 file DIR/none move 0 0", "fix ncf/needles: cannot open needle file"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 file DIR/bad.needles move 0 0", "bad.needles:3: expected 'x y', got '1e-3'"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 direction left", "fix ncf/needles: direction 'left' is not one of down, up"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 v_nothing", "fix ncf/needles: variable 'nothing' does not exist"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 sharp yes", "fix ncf/needles: unknown keyword 'sharp'"}));
