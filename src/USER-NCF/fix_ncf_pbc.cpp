@@ -72,6 +72,7 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
   dynamic_group_allow = 0;
 
   pair_on[0] = pair_on[1] = 1;
+  faces_auto = 1;
   for (auto &p : user_cells) p[0] = p[1] = 0;
   for (auto &p : mesh_cells) p[0] = p[1] = 0;
   nmerged[0] = nmerged[1] = 0;
@@ -105,7 +106,10 @@ void FixNCFPBC::parse(int narg, char **arg)
     if (key == "faces") {
       need(1);
       const std::string v = arg[iarg + 1];
-      if (v == "x") {
+      faces_auto = (v == "auto") ? 1 : 0;
+      if (v == "auto") {
+        pair_on[0] = pair_on[1] = 1;
+      } else if (v == "x") {
         pair_on[0] = 1;
         pair_on[1] = 0;
       } else if (v == "y") {
@@ -114,7 +118,7 @@ void FixNCFPBC::parse(int narg, char **arg)
       } else if (v == "xy") {
         pair_on[0] = pair_on[1] = 1;
       } else
-        error->all(FLERR, "fix ncf/pbc: faces '{}' is not one of x, y, xy", v);
+        error->all(FLERR, "fix ncf/pbc: faces '{}' is not one of auto, x, y, xy", v);
       iarg += 2;
     } else if (key == "endface") {
       need(1);
@@ -229,6 +233,11 @@ void FixNCFPBC::capture_reference()
       fn.push_back(f);
       which.push_back(k);
     }
+    if (fn.empty() && faces_auto) {
+      // faces auto: a face pair without end nodes (all chains cross the other way) is not tied
+      pair_on[p] = 0;
+      continue;
+    }
     if (fn.empty())
       error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on the {} faces",
                  group->names[igroup], p ? "y" : "x");
@@ -277,6 +286,9 @@ void FixNCFPBC::capture_reference()
                      "{} constraint groups ({} non-empty cells merged away)\n",
                      p ? "y" : "x", nlow, nup, mesh.nu, mesh.nv, ng, nmerged[p]);
   }
+  if (nodes.empty())
+    error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on a periodic face (face codes "
+                      "of i_{} are all 0)", group->names[igroup], endface_name);
   finish_groups();
 }
 

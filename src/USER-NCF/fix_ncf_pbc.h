@@ -52,6 +52,7 @@ class FixNCFPBC : public Fix {
   double href[6];                 // box h (xprd, yprd, zprd, yz, xz, xy) of the reference state
   std::string endface_name;       // per-atom integer with the face codes, or "" for auto
   int pair_on[2];                 // which face pairs are constrained
+  int faces_auto;                 // 1: constrain the pairs that have end nodes
   int user_cells[2][2];           // user mesh per pair (0 = auto)
   int mesh_cells[2][2];           // mesh used
   int nmerged[2];                 // groups lost to merging, per pair

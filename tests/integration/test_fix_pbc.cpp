@@ -271,7 +271,7 @@ TEST_P(FixPBCErrors, NameTheProblem)
 INSTANTIATE_TEST_SUITE_P(
     Table, FixPBCErrors,
     ::testing::Values(
-        BadPbc{"fix p ends ncf/pbc faces z", "fix ncf/pbc: faces 'z' is not one of x, y, xy"},
+        BadPbc{"fix p ends ncf/pbc faces z", "fix ncf/pbc: faces 'z' is not one of auto, x, y, xy"},
         BadPbc{"fix p ends ncf/pbc faces", "fix ncf/pbc: keyword 'faces' needs 1 value(s)"},
         BadPbc{"fix p ends ncf/pbc endface ncf_end",
                "fix ncf/pbc: endface 'ncf_end' must be 'auto' or a per-atom integer i_NAME"},
@@ -283,7 +283,25 @@ INSTANTIATE_TEST_SUITE_P(
         BadPbc{"fix p ends ncf/pbc faces y",
                "fix ncf/pbc: no end node of group ends lies on the y faces"},
         BadPbc{"fix p ends ncf/pbc faces xy",
-               "fix ncf/pbc: no end node of group ends lies on the y faces"}));
+               "fix ncf/pbc: no end node of group ends lies on the y faces"},
+        BadPbc{"fix p all ncf/pbc endface i_ncf_layer",
+               "fix ncf/pbc: x faces: averaged periodic boundary: no end node on the upper face"}));
+
+TEST(FixPBC, AutoFacesTieOnlyThePairsWithEndNodes)
+{
+  // the mat's chains all cross along x: faces auto (default) ties the x faces only
+  auto dir = scratch_dir("pbc_auto");
+  auto mat = write_mat(dir, 3.0, 19);
+  Lammps l;
+  load_mat(l, mat);
+  l.cmd("fix pbc ends ncf/pbc");
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_pbc[2]"), 2.0 * mat.nchain);    // both ends of every chain
+  // no end node anywhere: an error
+  l.cmd("group inner subtract all ends");
+  EXPECT_THAT(error_of([&] { l.cmd("fix p2 inner ncf/pbc"); }),
+              HasSubstr("fix ncf/pbc: no end node of group inner lies on a periodic face"));
+}
 
 TEST(FixPBC, NonPeriodicDirectionIsRefused)
 {
