@@ -165,14 +165,33 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   out.energy = energy;
   for (int n = 0; n < 4; n++) out.f[n] = -g[n];
   out.length = length;
-  out.fn = norm(fres);
-  if (out.fn > 0.0) out.normal = (1.0 / out.fn) * fres;
   if (msum > 0.0) {
     out.xi = mxi / msum;
     out.t = clamp01(ms / msum / lb);
   } else {
     out.xi = 0.5 * (lo + hi);
     out.t = clamp01((s0 + s1 * out.xi) / lb);
+  }
+  // normal direction: the offset from B's line of the point of A's line closest to it (the
+  // common perpendicular of the two lines), that point being kept within one contact distance
+  // of this pair's contact zone on A. Two pairs that share one contact (a crossing on a node of
+  // A, or of B) therefore take the same normal and their normal forces add up without loss or
+  // excess; for (nearly) parallel segments it is the offset at the end of the zone nearest to
+  // B's line. Where the axes touch: the direction of the resultant.
+  const double qa = norm2(r1);
+  double xs = 0.5 * (lo + hi);
+  if (qa > 1e-28 * la * la) {
+    const double ext = dc / la;
+    xs = std::min(hi + ext, std::max(lo - ext, -dot(r0, r1) / qa));
+  }
+  const Vec3 rs = r0 + xs * r1;
+  const double rn = norm(rs), fr = norm(fres);
+  if (rn > 1e-9 * dc) {
+    out.normal = (1.0 / rn) * rs;
+    out.fn = std::max(0.0, dot(fres, out.normal));
+  } else if (fr > 0.0) {
+    out.normal = (1.0 / fr) * fres;
+    out.fn = fr;
   }
   const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
   out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));

@@ -42,8 +42,9 @@ struct SegmentContact {
   bool active = false;      // true if any part of A penetrates B's cylinder (within W > 0)
   double energy = 0.0;      // E [J]
   Vec3 f[4];                // forces on A0, A1, B0, B1 [N] (= -dE/dx)
-  double fn = 0.0;          // magnitude of the resultant normal force on A [N]
-  Vec3 normal;              // unit direction of that resultant (from B towards A)
+  double fn = 0.0;          // normal force on A along `normal` (>= 0) [N]
+  Vec3 normal;              // unit normal: from B's line to the point of A in contact closest to
+                            // it; the direction of the resultant where the axes touch
   double xi = 0.0;          // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
   double t = 0.0;           // contact point on B: B0 + t (B1 - B0), in [0, 1]
   double length = 0.0;      // contact length l_c = integral of W over the penetrated part [m]
