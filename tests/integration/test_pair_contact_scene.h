@@ -5,6 +5,8 @@
 #ifndef TEST_PAIR_CONTACT_SCENE_H
 #define TEST_PAIR_CONTACT_SCENE_H
 
+#include "ncf_geometry.h"
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -97,6 +99,43 @@ inline std::vector<Chain> random_mat(int nchains, int nlayers, double side, doub
     const double z = (layer + 0.5) * dz;
     const double ex = 0.5 * len * std::cos(ang), ey = 0.5 * len * std::sin(ang);
     out.push_back(straight({cx - ex, cy - ey, z}, {cx + ex, cy + ey, z}, nseg));
+  }
+  return out;
+}
+
+// a layered mat: nlayers layers of `per_layer` parallel chains each (layer angle random), chains
+// of one layer at least 1.5 diameters apart in the plane (periodic images included), layer
+// spacing dz; periodic in x and y with box side `side`, chains 0.8 side long
+inline std::vector<Chain> layered_mat(int nlayers, int per_layer, double side, double mesh,
+                                      double dz, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Chain> out;
+  const double len = 0.8 * side;
+  const int nseg = (int) std::lround(len / mesh);
+  for (int layer = 0; layer < nlayers; layer++) {
+    const double ang = M_PI * u(rng);
+    const double ex = 0.5 * len * std::cos(ang), ey = 0.5 * len * std::sin(ang);
+    const double z = (layer + 0.5) * dz;
+    std::vector<std::array<double, 4>> placed;    // 2D ends of the chains of this layer
+    int tries = 0;
+    while ((int) placed.size() < per_layer && tries++ < 100000) {
+      const double cx = side * u(rng), cy = side * u(rng);
+      const NCF::Vec3 p0(cx - ex, cy - ey, 0), p1(cx + ex, cy + ey, 0);
+      bool ok = true;
+      for (const auto &q : placed)
+        for (int ix = -1; ix <= 1 && ok; ix++)
+          for (int iy = -1; iy <= 1 && ok; iy++) {
+            const NCF::Vec3 sh(ix * side, iy * side, 0);
+            auto cp = NCF::closest_points_segments(p0 + sh, p1 + sh, NCF::Vec3(q[0], q[1], 0),
+                                                   NCF::Vec3(q[2], q[3], 0));
+            if (cp.dist2 < 1.44 * DIAM * DIAM) ok = false;
+          }
+      if (!ok) continue;
+      placed.push_back({p0.x, p0.y, p1.x, p1.y});
+      out.push_back(straight({p0.x, p0.y, z}, {p1.x, p1.y, z}, nseg));
+    }
   }
   return out;
 }
