@@ -66,7 +66,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lmax_user = 0.0;
   maxcontacts = 24;
   fatom_flag = 0;
-  kn = ktr = mu = damp = cut = nullptr;
+  kn = ktr = mu = damp = cut = reachf = nullptr;
   given = nullptr;
   lmax_used = 0.0;
   use_history = use_velocity = false;
@@ -89,6 +89,7 @@ PairNCFContact::~PairNCFContact()
     memory->destroy(mu);
     memory->destroy(damp);
     memory->destroy(cut);
+    memory->destroy(reachf);
     memory->destroy(given);
   }
 }
@@ -104,11 +105,12 @@ void PairNCFContact::allocate()
   memory->create(mu, n + 1, n + 1, "pair:mu");
   memory->create(damp, n + 1, n + 1, "pair:damp");
   memory->create(cut, n + 1, n + 1, "pair:cut");
+  memory->create(reachf, n + 1, n + 1, "pair:reach");
   memory->create(given, n + 1, n + 1, "pair:given");
   for (int i = 0; i <= n; i++)
     for (int j = 0; j <= n; j++) {
       setflag[i][j] = given[i][j] = 0;
-      kn[i][j] = ktr[i][j] = mu[i][j] = damp[i][j] = cut[i][j] = 0.0;
+      kn[i][j] = ktr[i][j] = mu[i][j] = damp[i][j] = cut[i][j] = reachf[i][j] = 0.0;
     }
   diameter.assign(n + 1, 0.0);
   diamset.assign(n + 1, 0);
@@ -288,7 +290,7 @@ void PairNCFContact::find_lmax()
     }
   double all;
   MPI_Allreduce(&lmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
-  lmax_used = lmax_user > 0.0 ? lmax_user : 1.25 * all;
+  lmax_used = lmax_user > 0.0 ? lmax_user : 1.1 * all;
   if (lmax_user > 0.0 && all > lmax_user)
     error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all, lmax_user);
 }
@@ -360,6 +362,7 @@ double PairNCFContact::init_one(int i, int j)
   damp[j][i] = damp[i][j];
   const double dc = 0.5 * (diameter[i] + diameter[j]);
   cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac) + 2.0 * lmax_used;
+  reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
   return cut[i][j];
 }
 
@@ -373,13 +376,24 @@ void PairNCFContact::set_segments()
   const int nall = atom->nlocal + atom->nghost;
   const tagint *tag = atom->tag;
   double **cnb = atom->darray[idx_cnb];
+  double **x = atom->x;
   segp.assign(2 * (size_t) nall, -1);
+  segbox.resize(8 * (size_t) nall);
   for (int k = 0; k < nall; k++)
     for (int s = 0; s < 2; s++) {
       const tagint p = (tagint) cnb[k][s];
       if (p <= tag[k]) continue;
       const int m = atom->map(p);
-      segp[2 * k + s] = (m < 0) ? -2 : domain->closest_image(k, m);
+      const int q = (m < 0) ? -2 : domain->closest_image(k, m);
+      segp[2 * k + s] = q;
+      if (q < 0) continue;
+      // bounding sphere of the segment: centre and radius (half length)
+      double *b = &segbox[8 * (size_t) k + 4 * s];
+      const double dx = x[q][0] - x[k][0], dy = x[q][1] - x[k][1], dz = x[q][2] - x[k][2];
+      b[0] = x[k][0] + 0.5 * dx;
+      b[1] = x[k][1] + 0.5 * dy;
+      b[2] = x[k][2] + 0.5 * dz;
+      b[3] = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
     }
 }
 
@@ -489,17 +503,26 @@ void PairNCFContact::compute(int eflag, int vflag)
                    "the cutoffs were sized for; set pair_style keyword lmax",
                    tag[i], tag[ia], NCF::norm(a1 - a0), lmax_used);
       const SegKey A{tag[i], tag[ia]};
+      const double *ba = &segbox[8 * (size_t) i + 4 * sa];
       double *hrow = use_history ? &hnew[(size_t) i * ncol] : nullptr;
 
       for (int jj = 0; jj < jnum; jj++) {
         const int j = jlist[jj] & NEIGHMASK;
+        if (tag[j] < tag[i]) continue;    // key(B) < key(A) for both of j's segments
         const int jtype = type[j];
         const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
         if (dx * dx + dy * dy + dz * dz >= cutsq[itype][jtype]) continue;
-        if (tag[j] < tag[i]) continue;    // key(B) < key(A) for both of j's segments
+        const double reach = reachf[itype][jtype];
         for (int sb = 0; sb < 2; sb++) {
           const int jb = segp[2 * j + sb];
           if (jb == -1) continue;
+          if (jb >= 0) {
+            // bounding spheres of the two segments (+ contact distance and ramps) apart: skip
+            const double *bb = &segbox[8 * (size_t) j + 4 * sb];
+            const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
+            const double lim = ba[3] + bb[3] + reach;
+            if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          }
           const SegKey B{tag[j], tag[jb]};
           if (!key_less(A, B) || share_node(A, B)) continue;
           if (jb == -2)

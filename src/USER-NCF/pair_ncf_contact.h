@@ -57,7 +57,7 @@ class PairNCFContact : public Pair {
   int fatom_flag;      // store per-atom contact force magnitude
 
   // per type pair (index 0 unused); diameter per type
-  double **kn, **ktr, **mu, **damp, **cut;
+  double **kn, **ktr, **mu, **damp, **cut, **reachf;
   int **given;    // 1 if set by pair_coeff (not mixed)
   std::vector<double> diameter;
   std::vector<int> diamset;
@@ -72,6 +72,7 @@ class PairNCFContact : public Pair {
 
   // per-step work arrays
   std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<double> segbox;    // per local+ghost atom, 2 slots: centre and half length
   std::vector<double> hnew;      // new history rows of owned atoms
   std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
 
