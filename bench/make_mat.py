@@ -74,7 +74,8 @@ mass = rho_a * a.mesh
 with open(a.out, "w") as f:
     f.write(f"compacted mat, Vf {a.vf}, {len(chains)} chains\n\n")
     f.write(f"{len(atoms)} atoms\n1 atom types\n{len(bonds)} bonds\n1 bond types\n\n")
-    f.write(f"0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n{-D!r} {(a.layers + 1) * dz!r} zlo zhi\n\n")
+    # z: the box faces are the compaction plates (fix wall/harmonic, cutoff dz/2 in in.ncf)
+    f.write(f"0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n0 {a.layers * dz!r} zlo zhi\n\n")
     f.write(f"Masses\n\n1 {mass!r}\n\nAtoms # bond\n\n")
     for i, (m, x, y, z, ix, iy) in enumerate(atoms):
         f.write(f"{i + 1} {m} 1 {x!r} {y!r} {z!r} {ix} {iy} 0\n")
