@@ -146,6 +146,10 @@ void PairNCFContact::settings(int narg, char **arg)
     iarg += 2;
   }
   ncol = 1 + 6 * maxcontacts;
+  // the per-atom contact force exists from here on, so that a dump or variable defined before the
+  // first run can name d_ncf_fcontact
+  if (fatom_flag && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
+    modify->add_fix(fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
 }
 
 /* ----------------------------------------------------------------------
