@@ -3,10 +3,11 @@
 
    How each segment pair is visited exactly once:
    - a segment (bond i-j of a chain) is owned by its lower-tag node;
-   - a full neighbour list of nodes with cutoff D + 2 lmax + e holds, for every owned node i, the
-     owner nodes j of all segments that can touch a segment owned by i (either side);
+   - a half neighbour list of nodes without newton (cutoff D + 2 lmax + e) holds every pair of
+     owner nodes whose segments can touch: a pair of owned nodes once, a pair of an owned and a
+     ghost node on each of the two ranks;
    - the pair (A owned by i, B owned by j) is computed only where key(A) < key(B), key = (lower
-     tag, higher tag): on the rank that owns A's owner node, whatever rank owns B;
+     tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
    - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
    The friction history of the pair lives with A's owner node (a fix property/atom array), so it
    migrates and restarts with it; the rank that computes the pair always owns it.
@@ -32,7 +33,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <array>
 #include <string>
+#include <vector>
 
 using namespace LAMMPS_NS;
 using NCF::Vec3;
@@ -69,6 +72,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   kn = ktr = mu = damp = cut = reachf = nullptr;
   given = nullptr;
   lmax_used = 0.0;
+  reach_max = 0.0;
   use_history = use_velocity = false;
   idx_cnb = idx_hist = idx_fc = -1;
   ncol = 1 + 6 * maxcontacts;
@@ -331,8 +335,9 @@ void PairNCFContact::init_style()
   create_stores();
   fill_topology();
   find_lmax();
+  reach_max = 0.0;
 
-  neighbor->add_request(this, NeighConst::REQ_FULL);
+  // no neighbour list: candidate pairs come from a cell list of segment midpoints (compute)
 
   // the ghost shell must hold the partner node of every ghost owner in the list (+ lmax) and,
   // for the friction history, the owners of the neighbouring segments (+ 2 lmax)
@@ -367,6 +372,7 @@ double PairNCFContact::init_one(int i, int j)
   const double dc = 0.5 * (diameter[i] + diameter[j]);
   cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac) + 2.0 * lmax_used;
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
+  reach_max = MAX(reach_max, reachf[i][j]);
   return cut[i][j];
 }
 
@@ -377,7 +383,8 @@ double PairNCFContact::init_one(int i, int j)
 
 void PairNCFContact::set_segments()
 {
-  const int nall = atom->nlocal + atom->nghost;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
   const tagint *tag = atom->tag;
   double **cnb = atom->darray[idx_cnb];
   double **x = atom->x;
@@ -388,7 +395,13 @@ void PairNCFContact::set_segments()
       const tagint p = (tagint) cnb[k][s];
       if (p <= tag[k]) continue;
       const int m = atom->map(p);
-      const int q = (m < 0) ? -2 : domain->closest_image(k, m);
+      int q = (m < 0) ? -2 : domain->closest_image(k, m);
+      if (q >= 0 && k >= nlocal) {
+        // a ghost at the outer edge of the ghost shell may lack the image of its partner that
+        // belongs to it (closest_image then returns a far one): treat it as missing
+        const double ex = x[q][0] - x[k][0], ey = x[q][1] - x[k][1], ez = x[q][2] - x[k][2];
+        if (ex * ex + ey * ey + ez * ez > lmax_used * lmax_used * (1.0 + 1e-12)) q = -2;
+      }
       segp[2 * k + s] = q;
       if (q < 0) continue;
       // bounding sphere of the segment: centre and radius (half length)
@@ -483,131 +496,217 @@ void PairNCFContact::compute(int eflag, int vflag)
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0;
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  const double lmax2 = lmax_used * lmax_used;
 
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = ilist[ii];
-    const int itype = type[i];
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
+  // every owned segment within the length the cutoffs were sized for
+  for (int i = 0; i < nlocal; i++)
     for (int sa = 0; sa < 2; sa++) {
       const int ia = segp[2 * i + sa];
       if (ia == -1) continue;
       if (ia == -2)
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
-      const Vec3 a0(x[i]), a1(x[ia]);
-      if (NCF::norm2(a1 - a0) > lmax2)
+      if (segbox[8 * (size_t) i + 4 * sa + 3] * 2.0 > lmax_used)
         error->one(FLERR,
                    "pair ncf/contact: segment {}-{} is {:.6g} long, longer than lmax {:.6g} that "
                    "the cutoffs were sized for; set pair_style keyword lmax",
-                   tag[i], tag[ia], NCF::norm(a1 - a0), lmax_used);
-      const SegKey A{tag[i], tag[ia]};
-      const double *ba = &segbox[8 * (size_t) i + 4 * sa];
-      double *hrow = use_history ? &hnew[(size_t) i * ncol] : nullptr;
+                   tag[i], tag[ia], 2.0 * segbox[8 * (size_t) i + 4 * sa + 3], lmax_used);
+    }
 
-      for (int jj = 0; jj < jnum; jj++) {
-        const int j = jlist[jj] & NEIGHMASK;
-        if (tag[j] < tag[i]) continue;    // key(B) < key(A) for both of j's segments
-        const int jtype = type[j];
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        if (dx * dx + dy * dy + dz * dz >= cutsq[itype][jtype]) continue;
-        const double reach = reachf[itype][jtype];
-        for (int sb = 0; sb < 2; sb++) {
-          const int jb = segp[2 * j + sb];
-          if (jb == -1) continue;
-          if (jb >= 0) {
-            // bounding spheres of the two segments (+ contact distance and ramps) apart: skip
-            const double *bb = &segbox[8 * (size_t) j + 4 * sb];
-            const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
-            const double lim = ba[3] + bb[3] + reach;
-            if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-          }
-          const SegKey B{tag[j], tag[jb]};
-          if (!key_less(A, B) || share_node(A, B)) continue;
-          if (jb == -2)
-            error->one(FLERR,
-                       "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is "
-                       "not present on this rank; communication cutoff too short",
-                       tag[j], tag[i]);
-          const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
-          const Vec3 b0(x[j]), b1(x[jb]);
-          const NCF::SegmentContact c =
-              NCF::segment_contact(a0, a1, b0, b1, dc, kn[itype][jtype], ramp_frac * dc);
-          if (!c.active) continue;
+  // contact of segment slot sa of node ao (owned here) with slot sb of node bo, key(A) < key(B)
+  auto segment_pair = [&](int ao, int sa, int bo, int sb) {
+    const int ia = segp[2 * ao + sa];
+    const int jb = segp[2 * bo + sb];
+    const double *ba = &segbox[8 * (size_t) ao + 4 * sa];
+    const int itype = type[ao], jtype = type[bo];
+    if (jb >= 0) {
+      // bounding spheres of the two segments (+ contact distance and ramps) apart: skip
+      const double *bb = &segbox[8 * (size_t) bo + 4 * sb];
+      const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
+      const double lim = ba[3] + bb[3] + reachf[itype][jtype];
+      if (ex * ex + ey * ey + ez * ez > lim * lim) return;
+    }
+    const SegKey A{tag[ao], tag[ia]};
+    if (jb == -2)
+      error->one(FLERR,
+                 "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[bo], tag[ao]);
+    const SegKey B{tag[bo], tag[jb]};
+    if (share_node(A, B)) return;
+    const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
+    {
+      // cheap exact test: the contact law is zero unless A comes within dc of B extended by the
+      // ramps at both ends
+      const Vec3 b0(x[bo]), b1(x[jb]);
+      const double lb = 2.0 * segbox[8 * (size_t) bo + 4 * sb + 3];
+      if (lb > 0.0) {
+        const Vec3 ext = (ramp_frac * dc / lb) * (b1 - b0);
+        const NCF::ClosestPoints cp =
+            NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), b0 - ext, b1 + ext);
+        if (cp.dist2 >= dc * dc) return;
+      }
+    }
+    const NCF::SegmentContact c = NCF::segment_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]),
+                                                       Vec3(x[jb]), dc, kn[itype][jtype],
+                                                       ramp_frac * dc);
+    if (!c.active) return;
 
-          Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
-          double espring = 0.0;
-          if (use_velocity && c.fn > 0.0) {
-            const double xi = c.xi, t = c.t;
-            const Vec3 vrel = ((1.0 - xi) * Vec3(v[i]) + xi * Vec3(v[ia])) -
-                ((1.0 - t) * Vec3(v[j]) + t * Vec3(v[jb]));
-            Vec3 ftot;
-            double fn = c.fn;
-            if (damp[itype][jtype] > 0.0) {
-              // normal dashpot per unit contact length, never pulling the chains together
-              double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
-              if (fd < -fn) fd = -fn;
-              fn += fd;
-              ftot += fd * c.normal;
-            }
-            const double m = mu[itype][jtype];
-            if (m > 0.0) {
-              double slip[3] = {0.0, 0.0, 0.0};
-              const double *old = find_slip(tag[i], tag[ia], tag[j], tag[jb]);
-              if (old) {
-                slip[0] = old[0];
-                slip[1] = old[1];
-                slip[2] = old[2];
-              } else {
-                inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
-              }
-              Vec3 s(slip);
-              const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
-              const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
-              ftot += fr.force;
-              espring = fr.energy;
-              // store (also a zero slip: the contact exists)
-              const int nslot = (int) hrow[0];
-              if (nslot >= maxcontacts)
-                error->one(FLERR,
-                           "pair ncf/contact: node {} has more than {} contacts; raise "
-                           "pair_style keyword maxcontacts",
-                           tag[i], maxcontacts);
-              double *slot = hrow + 1 + 6 * nslot;
-              slot[0] = (double) tag[ia];
-              slot[1] = (double) tag[j];
-              slot[2] = (double) tag[jb];
-              slot[3] = s.x;
-              slot[4] = s.y;
-              slot[5] = s.z;
-              hrow[0] = nslot + 1;
-            }
-            fa0 += (1.0 - xi) * ftot;
-            fa1 += xi * ftot;
-            fb0 -= (1.0 - t) * ftot;
-            fb1 -= t * ftot;
-          }
-          const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
-          const int nodes[4] = {i, ia, j, jb};
-          for (int k = 0; k < 4; k++) {
-            f[nodes[k]][0] += fs[k]->x;
-            f[nodes[k]][1] += fs[k]->y;
-            f[nodes[k]][2] += fs[k]->z;
-            if (fatom_flag) {
-              fcon[3 * nodes[k] + 0] += fs[k]->x;
-              fcon[3 * nodes[k] + 1] += fs[k]->y;
-              fcon[3 * nodes[k] + 2] += fs[k]->z;
-            }
-          }
-          if (eflag_global) eng_vdwl += c.energy + espring;
-          ncontact += 1.0;
-          pensum += c.penetration;
-          penmax = MAX(penmax, c.penetration);
+    Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
+    double espring = 0.0;
+    if (use_velocity && c.fn > 0.0) {
+      const double xi = c.xi, t = c.t;
+      const Vec3 vrel = ((1.0 - xi) * Vec3(v[ao]) + xi * Vec3(v[ia])) -
+          ((1.0 - t) * Vec3(v[bo]) + t * Vec3(v[jb]));
+      Vec3 ftot;
+      double fn = c.fn;
+      if (damp[itype][jtype] > 0.0) {
+        // normal dashpot per unit contact length, never pulling the chains together
+        double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
+        if (fd < -fn) fd = -fn;
+        fn += fd;
+        ftot += fd * c.normal;
+      }
+      const double m = mu[itype][jtype];
+      if (m > 0.0) {
+        double slip[3] = {0.0, 0.0, 0.0};
+        const double *old = find_slip(A.lo, A.hi, B.lo, B.hi);
+        if (old) {
+          slip[0] = old[0];
+          slip[1] = old[1];
+          slip[2] = old[2];
+        } else {
+          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
+        }
+        Vec3 s(slip);
+        const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
+        const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
+        ftot += fr.force;
+        espring = fr.energy;
+        // store (also a zero slip: the contact exists)
+        double *hrow = &hnew[(size_t) ao * ncol];
+        const int nslot = (int) hrow[0];
+        if (nslot >= maxcontacts)
+          error->one(FLERR,
+                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
+                     "keyword maxcontacts",
+                     tag[ao], maxcontacts);
+        double *slot = hrow + 1 + 6 * nslot;
+        slot[0] = (double) A.hi;
+        slot[1] = (double) B.lo;
+        slot[2] = (double) B.hi;
+        slot[3] = s.x;
+        slot[4] = s.y;
+        slot[5] = s.z;
+        hrow[0] = nslot + 1;
+      }
+      fa0 += (1.0 - xi) * ftot;
+      fa1 += xi * ftot;
+      fb0 -= (1.0 - t) * ftot;
+      fb1 -= t * ftot;
+    }
+    const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
+    const int nodes[4] = {ao, ia, bo, jb};
+    for (int k = 0; k < 4; k++) {
+      f[nodes[k]][0] += fs[k]->x;
+      f[nodes[k]][1] += fs[k]->y;
+      f[nodes[k]][2] += fs[k]->z;
+      if (fatom_flag) {
+        fcon[3 * nodes[k] + 0] += fs[k]->x;
+        fcon[3 * nodes[k] + 1] += fs[k]->y;
+        fcon[3 * nodes[k] + 2] += fs[k]->z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy + espring;
+    ncontact += 1.0;
+    pensum += c.penetration;
+    penmax = MAX(penmax, c.penetration);
+  };
+
+  // candidate pairs from a cell list of segment midpoints (local and ghost segments, periodic
+  // images included): two segments can only touch if their midpoints are within
+  // (L_A + L_B)/2 + D (1 + ramp) <= lmax + reach of each other
+  struct Seg {
+    double m[3];
+    double half;
+    tagint tag, ptag;    // key of the segment (owner tag, partner tag)
+    int owner, slot;
+  };
+  double **cnb = atom->darray[idx_cnb];
+  std::vector<Seg> all;
+  all.reserve(nall);
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (int k = 0; k < nall; k++)
+    for (int sl = 0; sl < 2; sl++) {
+      const int p = segp[2 * k + sl];
+      if (p == -1) continue;
+      Seg sg;
+      if (p >= 0) {
+        const double *bx = &segbox[8 * (size_t) k + 4 * sl];
+        sg = {{bx[0], bx[1], bx[2]}, bx[3], tag[k], tag[p], k, sl};
+      } else {    // partner missing: an error if the segment is needed
+        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl};
+      }
+      for (int d = 0; d < 3; d++) {
+        lo[d] = MIN(lo[d], sg.m[d]);
+        hi[d] = MAX(hi[d], sg.m[d]);
+      }
+      all.push_back(sg);
+    }
+  const double R = lmax_used + reach_max;
+  if (!all.empty()) {
+    double bsize = 0.5 * R;
+    int nb[3];
+    for (;;) {
+      double total = 1.0;
+      for (int d = 0; d < 3; d++) {
+        nb[d] = (int) ((hi[d] - lo[d]) / bsize) + 1;
+        total *= nb[d];
+      }
+      if (total <= 8.0 * all.size() + 1000.0) break;
+      bsize *= 1.5;
+    }
+    const int reachb = (int) std::ceil(R / bsize);
+    auto binof = [&](const double *m) {
+      int c[3];
+      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bsize));
+      return (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+    };
+    const int nbins = nb[0] * nb[1] * nb[2];
+    std::vector<int> start(nbins + 1, 0);
+    std::vector<int> bin(all.size());
+    for (size_t n = 0; n < all.size(); n++) start[(bin[n] = binof(all[n].m)) + 1]++;
+    for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
+    std::vector<Seg> sorted(all.size());
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
+    }
+    // stencil of bin offsets whose nearest points are within R
+    std::vector<std::array<int, 3>> stencil;
+    for (int k = -reachb; k <= reachb; k++)
+      for (int j = -reachb; j <= reachb; j++)
+        for (int i = -reachb; i <= reachb; i++) {
+          const double gx = MAX(std::abs(i) - 1, 0), gy = MAX(std::abs(j) - 1, 0),
+                       gz = MAX(std::abs(k) - 1, 0);
+          if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
+        }
+    for (const Seg &sa : sorted) {
+      if (sa.owner >= nlocal) continue;
+      const int ao = sa.owner;
+      const tagint ta = sa.tag, tpa = sa.ptag;
+      int c[3];
+      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((sa.m[d] - lo[d]) / bsize));
+      for (const auto &o : stencil) {
+        const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
+        if (cx < 0 || cy < 0 || cz < 0 || cx >= nb[0] || cy >= nb[1] || cz >= nb[2]) continue;
+        const int q = (cz * nb[1] + cy) * nb[0] + cx;
+        for (int n = start[q]; n < start[q + 1]; n++) {
+          const Seg &sb = sorted[n];
+          if (sb.tag < ta || (sb.tag == ta && sb.ptag <= tpa)) continue;
+          const double ex = sa.m[0] - sb.m[0], ey = sa.m[1] - sb.m[1], ez = sa.m[2] - sb.m[2];
+          const double lim = sa.half + sb.half + reach_max;
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          segment_pair(ao, sa.slot, sb.owner, sb.slot);
         }
       }
     }

@@ -64,6 +64,7 @@ class PairNCFContact : public Pair {
 
   // derived at init
   double lmax_used;
+  double reach_max;    // largest D (1 + ramp) over the type pairs
   bool use_history;    // any mu > 0: history stored and communicated
   bool use_velocity;   // friction or damping: ghost velocities needed
   int idx_cnb, idx_hist, idx_fc;
