@@ -14,6 +14,7 @@ cd "$work"
 mpirun=(mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && mpirun+=(--allow-run-as-root)
 
+echo "load average before the runs: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores (timings are only comparable on an idle machine)"
 python3 "$here/make_mat.py" mat.data --side 6e-3 --layers 16 --vf 0.45 | tee make.log
 nodes=$(awk '/ atoms$/{print $1; exit}' mat.data)
 # sphere packing with about the same number of particles
