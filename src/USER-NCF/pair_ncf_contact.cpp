@@ -69,6 +69,8 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lmax_user = 0.0;
   maxcontacts = 24;
   fatom_flag = 0;
+  dtcheck = 2;
+  dt_critical = 0.0;
   kn = ktr = mu = damp = cut = reachf = nullptr;
   given = nullptr;
   lmax_used = 0.0;
@@ -144,6 +146,15 @@ void PairNCFContact::settings(int narg, char **arg)
         error->all(FLERR, "pair_style ncf/contact: maxcontacts {} out of range [1, 1000]", val);
     } else if (key == "fatom") {
       fatom_flag = utils::logical(FLERR, val, false, lmp);
+    } else if (key == "dtcheck") {
+      if (strcmp(val, "error") == 0)
+        dtcheck = 2;
+      else if (strcmp(val, "warn") == 0)
+        dtcheck = 1;
+      else if (strcmp(val, "no") == 0)
+        dtcheck = 0;
+      else
+        error->all(FLERR, "pair_style ncf/contact: dtcheck {} is not one of error, warn, no", val);
     } else {
       error->all(FLERR, "pair_style ncf/contact: unknown keyword {}", key);
     }
@@ -296,6 +307,31 @@ void PairNCFContact::find_lmax()
       }
       lmax = MAX(lmax, std::sqrt(r2));
     }
+  // critical time step of the contacts: a node of mass m pressed against an equal one by parallel
+  // contacts over half its two segments, stiffness k = kn (L_1 + L_2)/2: dt_c = sqrt(2 m / k)
+  double knmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      if (given[i][j]) knmax = MAX(knmax, kn[i][j]);
+  double omega2 = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    double len = 0.0;
+    for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
+      const tagint p = atom->special[i][s];
+      double r2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
+        r2 += dx * dx;
+      }
+      len += 0.5 * std::sqrt(r2);
+    }
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    if (m > 0.0 && len > 0.0) omega2 = MAX(omega2, 2.0 * knmax * len / m);
+  }
+  double omega2all;
+  MPI_Allreduce(&omega2, &omega2all, 1, MPI_DOUBLE, MPI_MAX, world);
+  dt_critical = omega2all > 0.0 ? 2.0 / std::sqrt(omega2all) : 0.0;
+
   double all;
   MPI_Allreduce(&lmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   lmax_used = lmax_user > 0.0 ? lmax_user : 1.1 * all;
@@ -336,6 +372,21 @@ void PairNCFContact::init_style()
   fill_topology();
   find_lmax();
   reach_max = 0.0;
+  if (dt_critical > 0.0 && dtcheck && update->whichflag == 1) {
+    const double dt = update->dt;
+    if (comm->me == 0)
+      utils::logmesg(lmp, "pair ncf/contact: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
+                     dt_critical, dt, dt / dt_critical);
+    if (dt > dt_critical) {
+      const std::string msg = fmt::format(
+          "pair ncf/contact: timestep {:.6g} is above the critical time step {:.6g} of the "
+          "contacts (sqrt(2 m / (kn L))); the integration would blow up. Reduce the timestep or "
+          "kn, scale the masses up, or use 'pair_style ncf/contact dtcheck warn' to run anyway",
+          dt, dt_critical);
+      if (dtcheck == 2) error->all(FLERR, msg);
+      if (comm->me == 0) error->warning(FLERR, msg);
+    }
+  }
 
   // no neighbour list: candidate pairs come from a cell list of segment midpoints (compute)
 
@@ -797,6 +848,7 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&lmax_user, sizeof(double), 1, fp);
   fwrite(&maxcontacts, sizeof(int), 1, fp);
   fwrite(&fatom_flag, sizeof(int), 1, fp);
+  fwrite(&dtcheck, sizeof(int), 1, fp);
 }
 
 void PairNCFContact::read_restart_settings(FILE *fp)
@@ -806,11 +858,13 @@ void PairNCFContact::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &lmax_user, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &maxcontacts, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &fatom_flag, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &dtcheck, sizeof(int), 1, fp, nullptr, error);
   }
   MPI_Bcast(&ramp_frac, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&lmax_user, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
   MPI_Bcast(&fatom_flag, 1, MPI_INT, 0, world);
+  MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
   ncol = 1 + 6 * maxcontacts;
 }
 

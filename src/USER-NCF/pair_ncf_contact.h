@@ -48,6 +48,7 @@ class PairNCFContact : public Pair {
   // longest segment the neighbour and ghost cutoffs were sized for (after init)
   double max_segment_length() const { return lmax_used; }
   bool friction_active() const { return use_history; }
+  double critical_timestep() const { return dt_critical; }
 
  protected:
   // settings
@@ -55,6 +56,8 @@ class PairNCFContact : public Pair {
   double lmax_user;    // longest segment given by the user (0 = from the data at init)
   int maxcontacts;     // history slots per node
   int fatom_flag;      // store per-atom contact force magnitude
+  int dtcheck;         // 2 error, 1 warn, 0 no check of the time step against dt_critical
+  double dt_critical;  // critical time step of the contacts (estimated at init)
 
   // per type pair (index 0 unused); diameter per type
   double **kn, **ktr, **mu, **damp, **cut, **reachf;

@@ -563,4 +563,13 @@ TEST(PairContact, ErrorsNameStyleKeywordAndValue)
               HasSubstr("newton pair on"));
   EXPECT_THAT(err("pair_style ncf/contact lmax 1e-5", "pair_coeff * * kn 1e8 diameter 69e-6"),
               HasSubstr("exceeds lmax"));
+  EXPECT_THAT(err("pair_style ncf/contact dtcheck maybe", "pair_coeff * * kn 1e8 diameter 69e-6"),
+              HasSubstr("dtcheck maybe"));
+  // time step above the critical one of the contacts: a clear error (sqrt(2 m / (kn L)) is
+  // 2.6e-7 s here), or a warning with dtcheck warn
+  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "timestep 1e-6"),
+              HasSubstr("above the critical time step"));
+  EXPECT_EQ(err("pair_style ncf/contact dtcheck warn", "pair_coeff * * kn 1e8 diameter 69e-6",
+                "timestep 1e-6\nbond_style ncf/chain dtcheck no\nbond_coeff 1 modulus 120e9 diameter 69e-6"),
+            "");
 }
