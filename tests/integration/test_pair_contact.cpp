@@ -303,6 +303,8 @@ thermo 0
   }
   EXPECT_GE(maxcontacts, 2.0) << "the chains must actually collide";
   EXPECT_LT(worst, 1e-5);
+  printf("[ pair ncf/contact ] frictionless NVE, 1e4 steps: max |E - E0| / E0 = %.3g, up to %g contacts\n",
+         worst, maxcontacts);
 }
 
 TEST(PairContact, FrictionDissipatesAndConservesMomentum)
@@ -341,6 +343,8 @@ thermo 0
     EXPECT_NEAR(l.value("v_pz"), p0[2], 1e-12 * pscale);
   }
   EXPECT_GT(total, 1e-3 * e0) << "friction must dissipate something in this scene";
+  printf("[ pair ncf/contact ] friction: dissipated %.3g of E0, smallest step of dissipation %.3g E0\n",
+         total / e0, min_step / e0);
   EXPECT_GE(min_step, -1e-6 * e0);
 }
 
