@@ -61,6 +61,26 @@ constexpr double MIN_LENGTH = 1e-3;
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
                                double dc, double kn, double ramp);
 
+// Contact of segment A (a0-a1) with the interior node n of another chain (neighbours p and q on
+// that chain), filling the part of the node's sphere (radius D around n) that the ramps of the
+// two segments p-n and n-q leave uncovered on the convex side of a kink:
+//
+//   E = (k_n / 2) * integral over A of  max(0, 1 - W_pn - W_nq)^2 * h_n(x)^2  dx,
+//   h_n = (D^2 - |x - n|^2) / (2 D) > 0,
+//
+// with W_pn, W_nq the weights of segment_contact. Zero for a straight chain (the ramps add up to
+// 1), so it only acts at kinks; the deficit enters squared so that the energy stays smooth when a
+// chain passes through straight. Exact integral and gradient as in segment_contact.
+// Forces: f[0], f[1] on a0, a1; f[2], f[3], f[4] on p, n, q. Normal part only (no friction).
+struct NodeContact {
+  bool active = false;
+  double energy = 0.0;
+  Vec3 f[5];
+  double penetration = 0.0;    // D - distance of segment A from n [m]
+};
+NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
+                         const Vec3 &q, double dc, double kn, double ramp);
+
 // One step of the Coulomb slip spring.
 //   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)
 //   normal: unit normal of the contact; vrel: velocity of A's contact point minus B's [m/s]

@@ -79,7 +79,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   idx_cnb = idx_hist = idx_fc = -1;
   ncol = 1 + 6 * maxcontacts;
   comm_mode = COMM_HIST;
-  nextra = 3;
+  nextra = 4;
   pvector = new double[nextra];
   for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
 }
@@ -440,11 +440,12 @@ void PairNCFContact::set_segments()
   double **cnb = atom->darray[idx_cnb];
   double **x = atom->x;
   segp.assign(2 * (size_t) nall, -1);
+  nbr.assign(2 * (size_t) nall, -1);
   segbox.resize(8 * (size_t) nall);
   for (int k = 0; k < nall; k++)
     for (int s = 0; s < 2; s++) {
       const tagint p = (tagint) cnb[k][s];
-      if (p <= tag[k]) continue;
+      if (p == 0) continue;
       const int m = atom->map(p);
       int q = (m < 0) ? -2 : domain->closest_image(k, m);
       if (q >= 0 && k >= nlocal) {
@@ -453,6 +454,8 @@ void PairNCFContact::set_segments()
         const double ex = x[q][0] - x[k][0], ey = x[q][1] - x[k][1], ez = x[q][2] - x[k][2];
         if (ex * ex + ey * ey + ez * ez > lmax_used * lmax_used * (1.0 + 1e-12)) q = -2;
       }
+      nbr[2 * k + s] = q;
+      if (p <= tag[k]) continue;
       segp[2 * k + s] = q;
       if (q < 0) continue;
       // bounding sphere of the segment: centre and radius (half length)
@@ -546,7 +549,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   if (use_history) hnew.assign((size_t) nlocal * ncol, 0.0);
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
-  double ncontact = 0.0, pensum = 0.0, penmax = 0.0;
+  double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
   // every owned segment within the length the cutoffs were sized for
   for (int i = 0; i < nlocal; i++)
@@ -673,6 +676,37 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
   };
 
+  // cap contact of segment slot sa of node ao (owned here) with the interior node k
+  auto node_pair = [&](int ao, int sa, int k) {
+    const int ia = segp[2 * ao + sa];
+    const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+    if (kp < 0 || kq < 0)
+      error->one(FLERR,
+                 "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[k], tag[ao], tag[ia]);
+    const int itype = type[ao], ktype = type[k];
+    const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
+    const NCF::NodeContact c =
+        NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]), Vec3(x[kq]), dc,
+                          kn[itype][ktype], ramp_frac * dc);
+    if (!c.active) return;
+    const int ids[5] = {ao, ia, kp, k, kq};
+    for (int m = 0; m < 5; m++) {
+      f[ids[m]][0] += c.f[m].x;
+      f[ids[m]][1] += c.f[m].y;
+      f[ids[m]][2] += c.f[m].z;
+      if (fatom_flag) {
+        fcon[3 * ids[m] + 0] += c.f[m].x;
+        fcon[3 * ids[m] + 1] += c.f[m].y;
+        fcon[3 * ids[m] + 2] += c.f[m].z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy;
+    ncap += 1.0;
+    penmax = MAX(penmax, c.penetration);
+  };
+
   // candidate pairs from a cell list of segment midpoints (local and ghost segments, periodic
   // images included): two segments can only touch if their midpoints are within
   // (L_A + L_B)/2 + D (1 + ramp) <= lmax + reach of each other
@@ -703,6 +737,22 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       all.push_back(sg);
     }
+  // interior nodes (two chain neighbours) for the node caps at kinks
+  struct Node {
+    double x[3];
+    tagint tag, tp, tq;
+    int idx;
+  };
+  std::vector<Node> nodes;
+  nodes.reserve(nall);
+  for (int k = 0; k < nall; k++) {
+    if (cnb[k][0] == 0.0 || cnb[k][1] == 0.0) continue;
+    nodes.push_back({{x[k][0], x[k][1], x[k][2]}, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k});
+    for (int d = 0; d < 3; d++) {
+      lo[d] = MIN(lo[d], x[k][d]);
+      hi[d] = MAX(hi[d], x[k][d]);
+    }
+  }
   const double R = lmax_used + reach_max;
   if (!all.empty()) {
     double bsize = 0.5 * R;
@@ -732,6 +782,14 @@ void PairNCFContact::compute(int eflag, int vflag)
       std::vector<int> fill(start.begin(), start.end() - 1);
       for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
     }
+    std::vector<int> nstart(nbins + 1, 0), nbin(nodes.size());
+    for (size_t n = 0; n < nodes.size(); n++) nstart[(nbin[n] = binof(nodes[n].x)) + 1]++;
+    for (int k = 0; k < nbins; k++) nstart[k + 1] += nstart[k];
+    std::vector<Node> nsorted(nodes.size());
+    {
+      std::vector<int> fill(nstart.begin(), nstart.end() - 1);
+      for (size_t n = 0; n < nodes.size(); n++) nsorted[fill[nbin[n]]++] = nodes[n];
+    }
     // stencil of bin offsets whose nearest points are within R
     std::vector<std::array<int, 3>> stencil;
     for (int k = -reachb; k <= reachb; k++)
@@ -758,6 +816,17 @@ void PairNCFContact::compute(int eflag, int vflag)
           const double lim = sa.half + sb.half + reach_max;
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
           segment_pair(ao, sa.slot, sb.owner, sb.slot);
+        }
+        // node caps: interior nodes of other chains (or far along this one) near segment A
+        for (int n = nstart[q]; n < nstart[q + 1]; n++) {
+          const Node &nd = nsorted[n];
+          if (nd.tag == ta || nd.tag == tpa || nd.tp == ta || nd.tp == tpa || nd.tq == ta ||
+              nd.tq == tpa)
+            continue;
+          const double ex = sa.m[0] - nd.x[0], ey = sa.m[1] - nd.x[1], ez = sa.m[2] - nd.x[2];
+          const double lim = sa.half + reach_max;
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          node_pair(ao, sa.slot, nd.idx);
         }
       }
     }
@@ -786,6 +855,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     pvector[0] = ncontact;
     pvector[1] = pensum;
     pvector[2] = (comm->me == 0) ? all : 0.0;
+    pvector[3] = ncap;
   }
 
   if (vflag_fdotr) virial_fdotr_compute();

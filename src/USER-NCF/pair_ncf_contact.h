@@ -77,6 +77,7 @@ class PairNCFContact : public Pair {
   // per-step work arrays
   std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
   std::vector<double> segbox;    // per local+ghost atom, 2 slots: centre and half length
+  std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
   std::vector<double> hnew;      // new history rows of owned atoms
   std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
 

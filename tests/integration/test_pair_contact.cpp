@@ -373,7 +373,7 @@ thermo 0
     l.cmd("write_restart " + dir + "/mid.restart");
     l.cmd("run 500");
     ref = l.positions();
-    EXPECT_GT(l.value("c_pc[1]"), 3.0);
+    EXPECT_GT(l.value("c_pc[1]"), 0.0) << "the history must matter: contacts at the restart";
   }
   auto resumed = [&](bool drop_history) {
     Lammps l;
@@ -496,10 +496,9 @@ TEST(PairContact, NoPassThroughInAFastPress)
   auto checker = press(dir, 1e10, 20.0, maxpen, maxcontacts);
   EXPECT_GT(maxcontacts, 20.0);
   EXPECT_EQ(checker.flips, 0) << "a chain passed through another";
-  // chains without bending stiffness fold at their nodes under the press; where a sharp kink of
-  // one chain pokes into another its convex side is covered by the ramps of the line contact
-  // only in part, so penetrations reach ~0.7 D there (see doc, restrictions) but never 0.8 D
-  EXPECT_GT(checker.closest, 0.2 * DIAM) << "axes came closer than 0.2 diameters";
+  // chains without bending stiffness fold at their nodes under the press; the node caps cover the
+  // convex side of such kinks (without them penetrations reached 0.7 D here)
+  EXPECT_GT(checker.closest, 0.5 * DIAM) << "axes came closer than half a diameter";
   printf("[ pair ncf/contact ] press: max penetration %.3g D, closest axes %.3g D, %g contacts max\n",
          maxpen / DIAM, checker.closest / DIAM, maxcontacts);
   // negative control: the checker sees chains pass through each other with a far too soft
