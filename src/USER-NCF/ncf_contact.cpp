@@ -11,40 +11,40 @@ namespace NCF {
 
 namespace {
 
-// interval [lo, hi] of xi where q(xi) = qa xi^2 + qb xi + qc' < 0 (qc' = qc - D^2 folded in);
-// false if empty. qa >= 0.
-bool negative_interval(double qa, double qb, double qc, double qa_tiny, double &lo, double &hi)
-{
-  constexpr double BIG = 1e300;
-  if (qa <= qa_tiny) {
-    // (nearly) exactly parallel: linear or constant
-    if (qb == 0.0) {
-      if (qc < 0.0) {
-        lo = -BIG;
-        hi = BIG;
-        return true;
+  // interval [lo, hi] of xi where q(xi) = qa xi^2 + qb xi + qc' < 0 (qc' = qc - D^2 folded in);
+  // false if empty. qa >= 0.
+  bool negative_interval(double qa, double qb, double qc, double qa_tiny, double &lo, double &hi)
+  {
+    constexpr double BIG = 1e300;
+    if (qa <= qa_tiny) {
+      // (nearly) exactly parallel: linear or constant
+      if (qb == 0.0) {
+        if (qc < 0.0) {
+          lo = -BIG;
+          hi = BIG;
+          return true;
+        }
+        return false;
       }
-      return false;
+      const double root = -qc / qb;
+      if (qb > 0.0) {
+        lo = -BIG;
+        hi = root;
+      } else {
+        lo = root;
+        hi = BIG;
+      }
+      return true;
     }
-    const double root = -qc / qb;
-    if (qb > 0.0) {
-      lo = -BIG;
-      hi = root;
-    } else {
-      lo = root;
-      hi = BIG;
-    }
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (disc <= 0.0) return false;
+    const double sq = std::sqrt(disc);
+    const double qq = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));    // never 0 since disc > 0
+    const double x1 = qq / qa, x2 = qc / qq;
+    lo = std::min(x1, x2);
+    hi = std::max(x1, x2);
     return true;
   }
-  const double disc = qb * qb - 4.0 * qa * qc;
-  if (disc <= 0.0) return false;
-  const double sq = std::sqrt(disc);
-  const double qq = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));    // never 0 since disc > 0
-  const double x1 = qq / qa, x2 = qc / qq;
-  lo = std::min(x1, x2);
-  hi = std::max(x1, x2);
-  return true;
-}
 
 }    // namespace
 
@@ -145,7 +145,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       length += om * la * w;
       // dE/dx
       const Vec3 dpart = kn * la * (-(h * w / dc) * r + (hh * wd) * gp);    // through p
-      const Vec3 lpart = (om * kn * hh * w) * ea;                             // through la
+      const Vec3 lpart = (om * kn * hh * w) * ea;                           // through la
       g[0] += om * (1.0 - xi) * dpart - lpart;
       g[1] += om * xi * dpart + lpart;
       g[2] += (om * kn * la) * (((1.0 - t) * h * w / dc) * r + (hh * wd) * gb0);
@@ -199,40 +199,40 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
 }
 
 namespace {
-constexpr double DEFICIT_TOL = 1e-9;
-// weight W of a segment (start b0, unit direction eb, length lb) at arc position s, and the
-// gradient of its active ramp variable with respect to the point x, b0 and b1 (r: offset of x
-// from the segment's line)
-struct Weight {
-  double w = 0.0, wd = 0.0;
-  Vec3 gx, gb0, gb1;
-};
-inline Weight weight_of(double s, double lb, double e, const Vec3 &eb, const Vec3 &r)
-{
-  Weight out;
-  const double inv2e = 0.5 / e;
-  const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-  const Vec3 rl = (1.0 / lb) * r;
-  if (wa <= wb) {
-    out.w = wa;
-    out.gx = eb;
-    out.gb0 = -eb - rl;
-    out.gb1 = rl;
-  } else {
-    out.w = wb;
-    out.gx = -eb;
-    out.gb0 = rl;
-    out.gb1 = eb - rl;
+  constexpr double DEFICIT_TOL = 1e-9;
+  // weight W of a segment (start b0, unit direction eb, length lb) at arc position s, and the
+  // gradient of its active ramp variable with respect to the point x, b0 and b1 (r: offset of x
+  // from the segment's line)
+  struct Weight {
+    double w = 0.0, wd = 0.0;
+    Vec3 gx, gb0, gb1;
+  };
+  inline Weight weight_of(double s, double lb, double e, const Vec3 &eb, const Vec3 &r)
+  {
+    Weight out;
+    const double inv2e = 0.5 / e;
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
+    const Vec3 rl = (1.0 / lb) * r;
+    if (wa <= wb) {
+      out.w = wa;
+      out.gx = eb;
+      out.gb0 = -eb - rl;
+      out.gb1 = rl;
+    } else {
+      out.w = wb;
+      out.gx = -eb;
+      out.gb0 = rl;
+      out.gb1 = eb - rl;
+    }
+    if (out.w >= 1.0) {
+      out.w = 1.0;
+    } else if (out.w <= 0.0) {
+      out.w = 0.0;
+    } else {
+      out.wd = inv2e;
+    }
+    return out;
   }
-  if (out.w >= 1.0) {
-    out.w = 1.0;
-  } else if (out.w <= 0.0) {
-    out.w = 0.0;
-  } else {
-    out.wd = inv2e;
-  }
-  return out;
-}
 }    // namespace
 
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
@@ -343,8 +343,8 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   return out;
 }
 
-FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt,
-                             double kt, double fn, double mu)
+FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
+                             double fn, double mu)
 {
   FrictionResult out;
   if (!(kt > 0.0) || !(fn > 0.0) || !(mu > 0.0)) {

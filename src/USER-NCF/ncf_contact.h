@@ -39,15 +39,15 @@
 namespace NCF {
 
 struct SegmentContact {
-  bool active = false;      // true if any part of A penetrates B's cylinder (within W > 0)
-  double energy = 0.0;      // E [J]
-  Vec3 f[4];                // forces on A0, A1, B0, B1 [N] (= -dE/dx)
-  double fn = 0.0;          // normal force on A along `normal` (>= 0) [N]
-  Vec3 normal;              // unit normal: from B's line to the point of A in contact closest to
-                            // it; the direction of the resultant where the axes touch
-  double xi = 0.0;          // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
-  double t = 0.0;           // contact point on B: B0 + t (B1 - B0), in [0, 1]
-  double length = 0.0;      // contact length l_c = integral of W over the penetrated part [m]
+  bool active = false;         // true if any part of A penetrates B's cylinder (within W > 0)
+  double energy = 0.0;         // E [J]
+  Vec3 f[4];                   // forces on A0, A1, B0, B1 [N] (= -dE/dx)
+  double fn = 0.0;             // normal force on A along `normal` (>= 0) [N]
+  Vec3 normal;                 // unit normal: from B's line to the point of A in contact closest to
+                               // it; the direction of the resultant where the axes touch
+  double xi = 0.0;             // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
+  double t = 0.0;              // contact point on B: B0 + t (B1 - B0), in [0, 1]
+  double length = 0.0;         // contact length l_c = integral of W over the penetrated part [m]
   double penetration = 0.0;    // D - (distance of the closest points of the two segments) [m]
 };
 
@@ -92,8 +92,8 @@ struct FrictionResult {
   bool sliding = false;
   double energy = 0.0;    // elastic energy stored in the spring after the step [J]
 };
-FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt,
-                             double kt, double fn, double mu);
+FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
+                             double fn, double mu);
 
 // Critical time step of a node of mass m pressed by a contact of stiffness kn over a length l:
 // dt_c = 2 sqrt(m / (kn l)) (explicit central differences). See doc/pair_ncf_contact.md.

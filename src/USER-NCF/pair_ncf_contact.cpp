@@ -31,9 +31,9 @@
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
 
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <array>
 #include <string>
 #include <vector>
 
@@ -54,7 +54,10 @@ inline bool share_node(const SegKey &a, const SegKey &b)
 {
   return a.lo == b.lo || a.lo == b.hi || a.hi == b.lo || a.hi == b.hi;
 }
-inline SegKey make_key(tagint a, tagint b) { return a < b ? SegKey{a, b} : SegKey{b, a}; }
+inline SegKey make_key(tagint a, tagint b)
+{
+  return a < b ? SegKey{a, b} : SegKey{b, a};
+}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -164,7 +167,8 @@ void PairNCFContact::settings(int narg, char **arg)
   // the per-atom contact force exists from here on, so that a dump or variable defined before the
   // first run can name d_ncf_fcontact
   if (fatom_flag && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
-    modify->add_fix(fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
+    modify->add_fix(
+        fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
 }
 
 /* ----------------------------------------------------------------------
@@ -231,7 +235,8 @@ void PairNCFContact::coeff(int narg, char **arg)
       count++;
     }
   }
-  if (count == 0) error->all(FLERR, "pair_coeff ncf/contact: no type pair in {} {}", arg[0], arg[1]);
+  if (count == 0)
+    error->all(FLERR, "pair_coeff ncf/contact: no type pair in {} {}", arg[0], arg[1]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -239,11 +244,13 @@ void PairNCFContact::coeff(int narg, char **arg)
 void PairNCFContact::create_stores()
 {
   if (!modify->get_fix_by_id(TOPO_ID))
-    modify->add_fix(fmt::format("{} all property/atom d2_ncf_cnb 2 ghost yes writedata no", TOPO_ID));
+    modify->add_fix(
+        fmt::format("{} all property/atom d2_ncf_cnb 2 ghost yes writedata no", TOPO_ID));
   int flag, cols;
   idx_cnb = atom->find_custom("ncf_cnb", flag, cols);
   if (idx_cnb < 0 || flag != 1 || cols != 2)
-    error->all(FLERR, "pair ncf/contact: per-atom array d2_ncf_cnb of fix {} is malformed", TOPO_ID);
+    error->all(FLERR, "pair ncf/contact: per-atom array d2_ncf_cnb of fix {} is malformed",
+               TOPO_ID);
 
   idx_hist = -1;
   if (use_history) {
@@ -260,7 +267,8 @@ void PairNCFContact::create_stores()
   idx_fc = -1;
   if (fatom_flag) {
     if (!modify->get_fix_by_id(FORCE_ID))
-      modify->add_fix(fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
+      modify->add_fix(
+          fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
     idx_fc = atom->find_custom("ncf_fcontact", flag, cols);
     if (idx_fc < 0 || flag != 1 || cols != 0)
       error->all(FLERR, "pair ncf/contact: d_ncf_fcontact of fix {} is malformed", FORCE_ID);
@@ -336,19 +344,22 @@ void PairNCFContact::find_lmax()
   MPI_Allreduce(&lmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   lmax_used = lmax_user > 0.0 ? lmax_user : 1.1 * all;
   if (lmax_user > 0.0 && all > lmax_user)
-    error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all, lmax_user);
+    error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all,
+               lmax_user);
 }
 
 void PairNCFContact::init_style()
 {
   if (!atom->molecular || !atom->nspecial)
-    error->all(FLERR, "pair ncf/contact requires a molecular atom style with bonds (atom_style bond)");
+    error->all(FLERR,
+               "pair ncf/contact requires a molecular atom style with bonds (atom_style bond)");
   if (force->newton_pair == 0) error->all(FLERR, "pair ncf/contact requires newton pair on");
   if (atom->map_style == Atom::MAP_NONE) error->all(FLERR, "pair ncf/contact requires an atom map");
   for (int i = 1; i <= atom->ntypes; i++)
     if (!diamset[i])
-      error->all(FLERR, "pair ncf/contact: no diameter for atom type {} (pair_coeff {} {} diameter D)",
-                 i, i, i);
+      error->all(FLERR,
+                 "pair ncf/contact: no diameter for atom type {} (pair_coeff {} {} diameter D)", i,
+                 i, i);
 
   use_history = use_velocity = false;
   for (int i = 1; i <= atom->ntypes; i++)
@@ -375,8 +386,9 @@ void PairNCFContact::init_style()
   if (dt_critical > 0.0 && dtcheck && update->whichflag == 1) {
     const double dt = update->dt;
     if (comm->me == 0)
-      utils::logmesg(lmp, "pair ncf/contact: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
-                     dt_critical, dt, dt / dt_critical);
+      utils::logmesg(
+          lmp, "pair ncf/contact: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
+          dt_critical, dt, dt / dt_critical);
     if (dt > dt_critical) {
       const std::string msg = fmt::format(
           "pair ncf/contact: timestep {:.6g} is above the critical time step {:.6g} of the "
@@ -408,8 +420,8 @@ double PairNCFContact::init_one(int i, int j)
 {
   if (!given[i][j]) {
     if (!given[i][i] || !given[j][j])
-      error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable", i,
-                 j);
+      error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable",
+                 i, j);
     // springs in series for the stiffness; geometric mean for friction and damping
     kn[i][j] = 2.0 * kn[i][i] * kn[j][j] / (kn[i][i] + kn[j][j]);
     ktr[i][j] = 0.5 * (ktr[i][i] + ktr[j][j]);
@@ -600,9 +612,8 @@ void PairNCFContact::compute(int eflag, int vflag)
         if (cp.dist2 >= dc * dc) return;
       }
     }
-    const NCF::SegmentContact c = NCF::segment_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]),
-                                                       Vec3(x[jb]), dc, kn[itype][jtype],
-                                                       ramp_frac * dc);
+    const NCF::SegmentContact c = NCF::segment_contact(
+        Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]), dc, kn[itype][jtype], ramp_frac * dc);
     if (!c.active) return;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
@@ -687,9 +698,8 @@ void PairNCFContact::compute(int eflag, int vflag)
                  tag[k], tag[ao], tag[ia]);
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
-    const NCF::NodeContact c =
-        NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]), Vec3(x[kq]), dc,
-                          kn[itype][ktype], ramp_frac * dc);
+    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
+                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
     if (!c.active) return;
     const int ids[5] = {ao, ia, kp, k, kq};
     for (int m = 0; m < 5; m++) {
@@ -747,7 +757,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   nodes.reserve(nall);
   for (int k = 0; k < nall; k++) {
     if (cnb[k][0] == 0.0 || cnb[k][1] == 0.0) continue;
-    nodes.push_back({{x[k][0], x[k][1], x[k][2]}, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k});
+    nodes.push_back(
+        {{x[k][0], x[k][1], x[k][2]}, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k});
     for (int d = 0; d < 3; d++) {
       lo[d] = MIN(lo[d], x[k][d]);
       hi[d] = MAX(hi[d], x[k][d]);
@@ -826,6 +837,18 @@ void PairNCFContact::compute(int eflag, int vflag)
           const double ex = sa.m[0] - nd.x[0], ey = sa.m[1] - nd.x[1], ez = sa.m[2] - nd.x[2];
           const double lim = sa.half + reach_max;
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          {
+            // the cap acts only where A comes within D of the node
+            const double *a0 = x[ao], *a1 = x[segp[2 * ao + sa.slot]];
+            const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+            const double wx = nd.x[0] - a0[0], wy = nd.x[1] - a0[1], wz = nd.x[2] - a0[2];
+            const double uu = ux * ux + uy * uy + uz * uz;
+            double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+            t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+            const double cx = wx - t * ux, cy = wy - t * uy, cz = wz - t * uz;
+            const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[nd.idx]]);
+            if (cx * cx + cy * cy + cz * cz >= dcap * dcap) continue;
+          }
           node_pair(ao, sa.slot, nd.idx);
         }
       }
@@ -836,7 +859,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   if (use_history) {
     double **hist = atom->darray[idx_hist];
     for (int i = 0; i < nlocal; i++)
-      memcpy(hist[i], &hnew[(size_t) i * ncol], sizeof(double) * (1 + 6 * (int) hnew[(size_t) i * ncol]));
+      memcpy(hist[i], &hnew[(size_t) i * ncol],
+             sizeof(double) * (1 + 6 * (int) hnew[(size_t) i * ncol]));
   }
 
   if (fatom_flag) {
@@ -863,7 +887,8 @@ void PairNCFContact::compute(int eflag, int vflag)
 
 /* ---------------------------------------------------------------------- */
 
-int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
+                                      int * /*pbc*/)
 {
   // variable length: per atom the number of contacts, then 6 values per contact
   double **hist = atom->darray[idx_hist];

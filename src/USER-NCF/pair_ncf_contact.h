@@ -52,12 +52,12 @@ class PairNCFContact : public Pair {
 
  protected:
   // settings
-  double ramp_frac;    // ramp half-width as a fraction of the contact distance
-  double lmax_user;    // longest segment given by the user (0 = from the data at init)
-  int maxcontacts;     // history slots per node
-  int fatom_flag;      // store per-atom contact force magnitude
-  int dtcheck;         // 2 error, 1 warn, 0 no check of the time step against dt_critical
-  double dt_critical;  // critical time step of the contacts (estimated at init)
+  double ramp_frac;      // ramp half-width as a fraction of the contact distance
+  double lmax_user;      // longest segment given by the user (0 = from the data at init)
+  int maxcontacts;       // history slots per node
+  int fatom_flag;        // store per-atom contact force magnitude
+  int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
+  double dt_critical;    // critical time step of the contacts (estimated at init)
 
   // per type pair (index 0 unused); diameter per type
   double **kn, **ktr, **mu, **damp, **cut, **reachf;
@@ -67,9 +67,9 @@ class PairNCFContact : public Pair {
 
   // derived at init
   double lmax_used;
-  double reach_max;    // largest D (1 + ramp) over the type pairs
-  bool use_history;    // any mu > 0: history stored and communicated
-  bool use_velocity;   // friction or damping: ghost velocities needed
+  double reach_max;     // largest D (1 + ramp) over the type pairs
+  bool use_history;     // any mu > 0: history stored and communicated
+  bool use_velocity;    // friction or damping: ghost velocities needed
   int idx_cnb, idx_hist, idx_fc;
   int ncol;    // columns of the history array: 1 + 6 * maxcontacts
   int comm_mode;

@@ -38,7 +38,8 @@ std::string setup(const std::string &data, const std::string &boundary = "f f f"
   return "units si\natom_style bond\natom_modify map array sort 0 0\nboundary " + boundary +
       "\nbond_style ncf/chain\nread_data " + data +
       "\nbond_coeff 1 modulus 120e9 diameter 69e-6\n" + style + "\n" + coeff +
-      "\ncomm_modify vel yes\ntimestep 1e-9\nneighbor 2e-5 bin\nneigh_modify every 1 delay 0 check yes\n"
+      "\ncomm_modify vel yes\ntimestep 1e-9\nneighbor 2e-5 bin\nneigh_modify every 1 delay 0 check "
+      "yes\n"
       "compute pc all pair ncf/contact\nthermo_style custom step pe ke evdwl c_pc[1] c_pc[2] "
       "c_pc[3]\n";
 }
@@ -122,11 +123,12 @@ TEST(PairContact, SameForcesAcrossPeriodicBoundary)
   std::vector<double> ref;
   double nref = 0.0;
   for (int k = 0; k < 2; k++) {
-    const std::array<double, 3> shift = k == 0 ? std::array<double, 3>{0, 0, 0}
-                                               : std::array<double, 3>{1.5e-3, 1.5e-3, 1.5e-3 - 3e-5};
+    const std::array<double, 3> shift = k == 0
+        ? std::array<double, 3>{0, 0, 0}
+        : std::array<double, 3>{1.5e-3, 1.5e-3, 1.5e-3 - 3e-5};
     Lammps l;
-    l.cmds(setup(write_data(dir + "/c" + std::to_string(k) + ".data", crossed(0.9 * DIAM, shift), box,
-                            NODE_MASS),
+    l.cmds(setup(write_data(dir + "/c" + std::to_string(k) + ".data", crossed(0.9 * DIAM, shift),
+                            box, NODE_MASS),
                  "p p p"));
     l.cmd("run 0");
     auto f = l.forces();
@@ -188,8 +190,8 @@ std::vector<double> slide_ratios(const std::string &dir, bool parallel, double m
     chains.push_back(straight({-0.9e-3 + 0.0111e-3, 0, z}, {-0.7e-3 + 0.0111e-3, 0, z}, 2));
   else
     chains.push_back(straight({-0.8e-3, -1e-4, z}, {-0.8e-3, 1e-4, z}, 1));    // one segment: a
-                                                                              // chain of several
-                                                                              // would drape over B
+                                                                               // chain of several
+                                                                               // would drape over B
   Box box;
   box.lo[0] = -1.5e-3;
   box.hi[0] = 1.5e-3;
@@ -241,9 +243,9 @@ TEST(PairContact, CoulombStickBelowAndSlideAtMuFn)
   auto dir = scratch_dir("contact_coulomb");
   const double mu = 0.3, load = 0.02;
   auto moved = [&](double pull) {
-    std::vector<Chain> chains = {straight({-1e-3, 0, 0}, {1e-3, 0, 0}, 20),
-                                 straight({0.0123e-3, -1e-4, 0.95 * DIAM},
-                                          {0.0123e-3, 1e-4, 0.95 * DIAM}, 1)};
+    std::vector<Chain> chains = {
+        straight({-1e-3, 0, 0}, {1e-3, 0, 0}, 20),
+        straight({0.0123e-3, -1e-4, 0.95 * DIAM}, {0.0123e-3, 1e-4, 0.95 * DIAM}, 1)};
     Lammps l;
     l.cmds(setup(write_data(dir + "/k.data", chains, Box(), 100 * NODE_MASS), "f f f",
                  "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6"));
@@ -271,7 +273,8 @@ namespace {
 // four chains in two crossing pairs flying into each other; all free, no fixes but nve
 std::vector<Chain> collision_scene()
 {
-  return {straight({-4e-4, 0, 0}, {4e-4, 0, 0}, 8), straight({0.05e-3, -4e-4, 1.05 * DIAM}, {0.05e-3, 4e-4, 1.05 * DIAM}, 8),
+  return {straight({-4e-4, 0, 0}, {4e-4, 0, 0}, 8),
+          straight({0.05e-3, -4e-4, 1.05 * DIAM}, {0.05e-3, 4e-4, 1.05 * DIAM}, 8),
           straight({-4e-4, 0.2e-3, 2.1 * DIAM}, {4e-4, 0.3e-3, 2.1 * DIAM}, 8),
           straight({-0.1e-3, -4e-4, 3.15 * DIAM}, {0.1e-3, 4e-4, 3.15 * DIAM}, 8)};
 }
@@ -303,7 +306,8 @@ thermo 0
   }
   EXPECT_GE(maxcontacts, 2.0) << "the chains must actually collide";
   EXPECT_LT(worst, 1e-5);
-  printf("[ pair ncf/contact ] frictionless NVE, 1e4 steps: max |E - E0| / E0 = %.3g, up to %g contacts\n",
+  printf("[ pair ncf/contact ] frictionless NVE, 1e4 steps: max |E - E0| / E0 = %.3g, up to %g "
+         "contacts\n",
          worst, maxcontacts);
 }
 
@@ -343,7 +347,8 @@ thermo 0
     EXPECT_NEAR(l.value("v_pz"), p0[2], 1e-12 * pscale);
   }
   EXPECT_GT(total, 1e-3 * e0) << "friction must dissipate something in this scene";
-  printf("[ pair ncf/contact ] friction: dissipated %.3g of E0, smallest step of dissipation %.3g E0\n",
+  printf("[ pair ncf/contact ] friction: dissipated %.3g of E0, smallest step of dissipation %.3g "
+         "E0\n",
          total / e0, min_step / e0);
   EXPECT_GE(min_step, -1e-6 * e0);
 }
@@ -354,8 +359,8 @@ TEST(PairContact, RestartKeepsFrictionHistory)
   Box box;
   box.lo[0] = box.lo[1] = 0.0;
   box.hi[0] = box.hi[1] = 1.2e-3;
-  const std::string data = write_data(dir + "/r.data", random_mat(12, 12, 1.2e-3, 1e-4, 0.9 * DIAM, 5),
-                                      box, NODE_MASS);
+  const std::string data =
+      write_data(dir + "/r.data", random_mat(12, 12, 1.2e-3, 1e-4, 0.9 * DIAM, 5), box, NODE_MASS);
   const std::string coeff = "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6";
   const char *fixes = R"(
 fix nve all nve
@@ -402,9 +407,9 @@ namespace {
 // A lies (sign of the common-normal offset, for crossing segments whose closest points are
 // interior) must not flip between two checks, and the axes must never come closer than `dmin`.
 struct PassThroughChecker {
-  std::vector<int> chain_of;    // per node (0-based), chain index
+  std::vector<int> chain_of;                // per node (0-based), chain index
   std::vector<std::pair<int, int>> segs;    // node indices of each segment
-  std::vector<signed char> side;    // per segment pair, last sign (0 unknown)
+  std::vector<signed char> side;            // per segment pair, last sign (0 unknown)
   int flips = 0;
   double closest = 1e300;
   explicit PassThroughChecker(const std::vector<Chain> &chains)
@@ -421,7 +426,9 @@ struct PassThroughChecker {
   }
   void check(const std::vector<double> &x)
   {
-    auto P = [&](int n) { return NCF::Vec3(&x[3 * n]); };
+    auto P = [&](int n) {
+      return NCF::Vec3(&x[3 * n]);
+    };
     for (size_t a = 0; a < segs.size(); a++)
       for (size_t b = a + 1; b < segs.size(); b++) {
         if (chain_of[segs[a].first] == chain_of[segs[b].first]) continue;
@@ -438,7 +445,8 @@ struct PassThroughChecker {
           s = 0;
           continue;
         }
-        const signed char now = NCF::dot(NCF::lerp(a0, a1, cp.s) - NCF::lerp(b0, b1, cp.t), nrm) > 0 ? 1 : -1;
+        const signed char now =
+            NCF::dot(NCF::lerp(a0, a1, cp.s) - NCF::lerp(b0, b1, cp.t), nrm) > 0 ? 1 : -1;
         if (s != 0 && now != s) flips++;
         s = now;
       }
@@ -499,8 +507,9 @@ TEST(PairContact, NoPassThroughInAFastPress)
   // chains without bending stiffness fold at their nodes under the press; the node caps cover the
   // convex side of such kinks (without them penetrations reached 0.7 D here)
   EXPECT_GT(checker.closest, 0.5 * DIAM) << "axes came closer than half a diameter";
-  printf("[ pair ncf/contact ] press: max penetration %.3g D, closest axes %.3g D, %g contacts max\n",
-         maxpen / DIAM, checker.closest / DIAM, maxcontacts);
+  printf(
+      "[ pair ncf/contact ] press: max penetration %.3g D, closest axes %.3g D, %g contacts max\n",
+      maxpen / DIAM, checker.closest / DIAM, maxcontacts);
   // negative control: the checker sees chains pass through each other with a far too soft
   // contact (kn 1e3 Pa)
   auto soft = press(dir, 1e3, 20.0, maxpen, maxcontacts);
@@ -532,7 +541,8 @@ TEST(PairContact, PerAtomContactForceForDumps)
   l.cmd("compute fsum all reduce sum v_fc");
   auto f = l.forces();
   double expect = 0.0;
-  for (size_t i = 0; i < f.size(); i += 3) expect += std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]);
+  for (size_t i = 0; i < f.size(); i += 3)
+    expect += std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]);
   l.cmd("run 0");
   EXPECT_NEAR(l.value("c_fsum"), expect, 1e-12 * expect);
   EXPECT_GT(expect, 0.0);
@@ -542,7 +552,8 @@ TEST(PairContact, ErrorsNameStyleKeywordAndValue)
 {
   auto dir = scratch_dir("contact_errors");
   const std::string data = write_data(dir + "/e.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
-  auto err = [&](const std::string &style, const std::string &coeff, const std::string &extra = "") {
+  auto err = [&](const std::string &style, const std::string &coeff,
+                 const std::string &extra = "") {
     return error_of([&] {
       Lammps l;
       l.cmds(setup(data, "f f f", coeff, style));
@@ -562,17 +573,20 @@ TEST(PairContact, ErrorsNameStyleKeywordAndValue)
   EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 mu 0.3 diameter 69e-6",
                   "comm_modify vel no"),
               HasSubstr("comm_modify vel yes"));
-  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "newton off on"),
-              HasSubstr("newton pair on"));
+  EXPECT_THAT(
+      err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "newton off on"),
+      HasSubstr("newton pair on"));
   EXPECT_THAT(err("pair_style ncf/contact lmax 1e-5", "pair_coeff * * kn 1e8 diameter 69e-6"),
               HasSubstr("exceeds lmax"));
   EXPECT_THAT(err("pair_style ncf/contact dtcheck maybe", "pair_coeff * * kn 1e8 diameter 69e-6"),
               HasSubstr("dtcheck maybe"));
   // time step above the critical one of the contacts: a clear error (sqrt(2 m / (kn L)) is
   // 2.6e-7 s here), or a warning with dtcheck warn
-  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "timestep 1e-6"),
-              HasSubstr("above the critical time step"));
+  EXPECT_THAT(
+      err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "timestep 1e-6"),
+      HasSubstr("above the critical time step"));
   EXPECT_EQ(err("pair_style ncf/contact dtcheck warn", "pair_coeff * * kn 1e8 diameter 69e-6",
-                "timestep 1e-6\nbond_style ncf/chain dtcheck no\nbond_coeff 1 modulus 120e9 diameter 69e-6"),
+                "timestep 1e-6\nbond_style ncf/chain dtcheck no\nbond_coeff 1 modulus 120e9 "
+                "diameter 69e-6"),
             "");
 }

@@ -75,7 +75,8 @@ inline std::string write_data(const std::string &path, const std::vector<Chain> 
   id = 0;
   int b = 0;
   for (const auto &c : chains) {
-    for (size_t k = 0; k + 1 < c.x.size(); k++) fprintf(fp, "%d 1 %d %d\n", ++b, id + (int) k + 1, id + (int) k + 2);
+    for (size_t k = 0; k + 1 < c.x.size(); k++)
+      fprintf(fp, "%d 1 %d %d\n", ++b, id + (int) k + 1, id + (int) k + 2);
     id += (int) c.x.size();
   }
   fclose(fp);
@@ -84,8 +85,8 @@ inline std::string write_data(const std::string &path, const std::vector<Chain> 
 
 // a random mat: nlayers layers of chains with random in-plane angles, periodic in x and y
 // (box side `side`), layer spacing `dz` (< DIAM: the layers start slightly pressed together)
-inline std::vector<Chain> random_mat(int nchains, int nlayers, double side, double mesh,
-                                     double dz, unsigned seed)
+inline std::vector<Chain> random_mat(int nchains, int nlayers, double side, double mesh, double dz,
+                                     unsigned seed)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);

@@ -2,8 +2,8 @@
 // a 50-chain mat compacted by a moving wall for 2000 steps ends in the same positions to 1e-10
 // (relative to the box); a run restarted in the middle on another number of ranks too.
 
-#include "ncf_lammps_test.h"
 #include "../integration/test_pair_contact_scene.h"
+#include "ncf_lammps_test.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@ using namespace contactscene;
 namespace {
 
 const double SIDE = 1.5e-3;
-const double DZ = 0.97 * DIAM;    // consecutive layers start slightly pressed together
+const double DZ = 0.97 * DIAM;          // consecutive layers start slightly pressed together
 const int NLAYER = 5, PERLAYER = 10;    // 50 chains
 
 std::string scene_data()
@@ -29,7 +29,8 @@ std::string scene_data()
     box.lo[2] = -DIAM;
     box.hi[2] = (NLAYER - 0.5) * DZ + 0.6 * DIAM;
     path = dir + "/mat.data";
-    if (world_rank() == 0) write_data(path, layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box, RHO_A * 1e-4);
+    if (world_rank() == 0)
+      write_data(path, layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box, RHO_A * 1e-4);
     MPI_Barrier(MPI_COMM_WORLD);
   }
   return path;
@@ -112,8 +113,9 @@ TEST(PairContactRanks, SameTrajectoryOn1And2And4Ranks)
     EXPECT_GT(contacts, 50.0) << "the mat must be in contact";
     EXPECT_LT(rel_diff(p1, p2), 1e-10);
     EXPECT_LT(rel_diff(p1, p4), 1e-10);
-    printf("[ pair ncf/contact ] %g contacts; max |dx| / box: 1 vs 2 ranks %.3g, 1 vs 4 ranks %.3g\n",
-           contacts, rel_diff(p1, p2), rel_diff(p1, p4));
+    printf(
+        "[ pair ncf/contact ] %g contacts; max |dx| / box: 1 vs 2 ranks %.3g, 1 vs 4 ranks %.3g\n",
+        contacts, rel_diff(p1, p2), rel_diff(p1, p4));
     // and the compaction moved the chains (the comparison is not trivial)
     std::vector<double> p0;
     {
@@ -162,7 +164,8 @@ neigh_modify every 1 delay 0 check yes
   });
   if (world_rank() == 0) {
     EXPECT_LT(rel_diff(straight, resumed), 1e-10);
-    printf("[ pair ncf/contact ] restart 4 -> 2 ranks vs straight run on 1 rank: max |dx| / box %.3g\n",
+    printf("[ pair ncf/contact ] restart 4 -> 2 ranks vs straight run on 1 rank: max |dx| / box "
+           "%.3g\n",
            rel_diff(straight, resumed));
   }
 }

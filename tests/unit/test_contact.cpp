@@ -18,8 +18,8 @@ using NCF::Vec3;
 
 namespace {
 
-const double D = 69e-6;           // contact distance (equal diameters 69 um)
-const double KN = 1e7;            // normal stiffness per length [Pa]
+const double D = 69e-6;          // contact distance (equal diameters 69 um)
+const double KN = 1e7;           // normal stiffness per length [Pa]
 const double RAMP = 0.25 * D;    // ramp half-width
 
 double energy_of(const Vec3 x[4])
@@ -27,7 +27,10 @@ double energy_of(const Vec3 x[4])
   return segment_contact(x[0], x[1], x[2], x[3], D, KN, RAMP).energy;
 }
 
-Vec3 resultant(const SegmentContact &c) { return c.f[0] + c.f[1] + c.f[2] + c.f[3]; }
+Vec3 resultant(const SegmentContact &c)
+{
+  return c.f[0] + c.f[1] + c.f[2] + c.f[3];
+}
 Vec3 moment(const SegmentContact &c, const Vec3 x[4])
 {
   Vec3 m;
@@ -254,8 +257,8 @@ TEST(Contact, NearlyParallelRootsAreStable)
   for (int k = 3; k <= 15; k++) {
     const double ang = std::pow(10.0, -k);
     const Vec3 dir(std::cos(ang), std::sin(ang), 0), c(0, 0, gap);
-    auto r = segment_contact(Vec3(-L / 2, 0, 0), Vec3(L / 2, 0, 0), c - L * dir, c + L * dir, D,
-                             KN, RAMP);
+    auto r = segment_contact(Vec3(-L / 2, 0, 0), Vec3(L / 2, 0, 0), c - L * dir, c + L * dir, D, KN,
+                             RAMP);
     ASSERT_TRUE(r.active);
     if (k > 3) EXPECT_NEAR(r.energy, prev, 1e-4 * prev);
     prev = r.energy;
@@ -313,7 +316,8 @@ TEST(NodeContact, ForceIsMinusEnergyGradientAndBalanced)
   for (int trial = 0; trial < 2000 && tested < 100; trial++) {
     const double L = 1e-4;
     // a kinked chain p - n - q (kink 40..150 deg) and a segment A near the convex side of n
-    const double kink = (trial % 2) ? 0.7 + 1.9 * (0.5 + 0.5 * u(rng)) : M_PI - 0.2 * (0.5 + 0.5 * u(rng));
+    const double kink = (trial % 2) ? 0.7 + 1.9 * (0.5 + 0.5 * u(rng))
+                                    : M_PI - 0.2 * (0.5 + 0.5 * u(rng));
     const Vec3 n(0, 0, 0);
     const Vec3 p = n + L * Vec3(-std::cos(0.5 * kink), -std::sin(0.5 * kink), 0);
     const Vec3 q = n + L * Vec3(std::cos(0.5 * kink), -std::sin(0.5 * kink), 0);
@@ -369,9 +373,10 @@ TEST(NodeContact, KinkConvexSideIsCovered)
   // would be a small fraction
   const double L = 1e-4, gap = 0.9 * D;
   const Vec3 n(0, 0, 0), p = L * Vec3(-std::sqrt(0.5), -std::sqrt(0.5), 0),
-             q = L * Vec3(std::sqrt(0.5), -std::sqrt(0.5), 0);
+                         q = L * Vec3(std::sqrt(0.5), -std::sqrt(0.5), 0);
   const Vec3 a0(0, gap, -0.6 * L), a1(0, gap, 0.6 * L);    // across the kink's plane
-  auto s1 = segment_contact(a0, a1, p, n, D, KN, RAMP), s2 = segment_contact(a0, a1, n, q, D, KN, RAMP);
+  auto s1 = segment_contact(a0, a1, p, n, D, KN, RAMP),
+       s2 = segment_contact(a0, a1, n, q, D, KN, RAMP);
   auto cap = NCF::node_contact(a0, a1, p, n, q, D, KN, RAMP);
   const double without = (s1.f[0] + s1.f[1] + s2.f[0] + s2.f[1]).y;
   const double with = without + (cap.f[0] + cap.f[1]).y;
