@@ -558,7 +558,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     comm->forward_comm(this);
   }
   set_segments();
-  if (use_history) hnew.assign((size_t) nlocal * ncol, 0.0);
+  if (use_history) {
+    // only the contact counts need clearing: slots are written before they are read
+    if (hnew.size() < (size_t) nlocal * ncol) hnew.resize((size_t) nlocal * ncol);
+    for (int i = 0; i < nlocal; i++) hnew[(size_t) i * ncol] = 0.0;
+  }
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
