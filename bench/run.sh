@@ -10,6 +10,7 @@ root=$(dirname "$here")
 source "$root/build/ncf-env.sh"
 steps=${1:-100}
 work=$(mktemp -d /tmp/ncf-bench.XXXXXX)
+[ -n "${NCF_BENCH_KEEP:-}" ] || trap 'rm -rf "$work"' EXIT    # NCF_BENCH_KEEP=1 keeps the logs
 cd "$work"
 mpirun=(mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && mpirun+=(--allow-run-as-root)
