@@ -724,50 +724,57 @@ void PairNCFContact::compute(int eflag, int vflag)
   // candidate pairs from a cell list of segment midpoints (local and ghost segments, periodic
   // images included): two segments can only touch if their midpoints are within
   // (L_A + L_B)/2 + D (1 + ramp) <= lmax + reach of each other
+  // one entry per segment (owner node, slot) and, folded into the first segment entry of its
+  // node, the node cap of every interior node (nodes owning no segment get an entry of their own)
   struct Seg {
     double m[3];
     double half;
     tagint tag, ptag;    // key of the segment (owner tag, partner tag)
-    int owner, slot;
+    int owner, slot;     // slot -1: no segment, only the node cap
+    int cap;             // 1: the owner is an interior node whose cap this entry carries
+    tagint tp, tq;       // chain neighbours of the owner (for the cap exclusions)
   };
   double **cnb = atom->darray[idx_cnb];
   std::vector<Seg> all;
   all.reserve(nall);
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (int k = 0; k < nall; k++)
+  for (int k = 0; k < nall; k++) {
+    const bool interior = cnb[k][0] != 0.0 && cnb[k][1] != 0.0;
+    bool capdone = false;
     for (int sl = 0; sl < 2; sl++) {
       const int p = segp[2 * k + sl];
       if (p == -1) continue;
       Seg sg;
       if (p >= 0) {
         const double *bx = &segbox[8 * (size_t) k + 4 * sl];
-        sg = {{bx[0], bx[1], bx[2]}, bx[3], tag[k], tag[p], k, sl};
+        sg = {{bx[0], bx[1], bx[2]}, bx[3], tag[k], tag[p], k, sl, 0, 0, 0};
       } else {    // partner missing: an error if the segment is needed
-        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl};
+        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
       }
-      for (int d = 0; d < 3; d++) {
-        lo[d] = MIN(lo[d], sg.m[d]);
-        hi[d] = MAX(hi[d], sg.m[d]);
+      if (interior && !capdone) {
+        sg.cap = 1;
+        sg.tp = (tagint) cnb[k][0];
+        sg.tq = (tagint) cnb[k][1];
+        capdone = true;
       }
       all.push_back(sg);
     }
-  // interior nodes (two chain neighbours) for the node caps at kinks
-  struct Node {
-    double x[3];
-    tagint tag, tp, tq;
-    int idx;
-  };
-  std::vector<Node> nodes;
-  nodes.reserve(nall);
-  for (int k = 0; k < nall; k++) {
-    if (cnb[k][0] == 0.0 || cnb[k][1] == 0.0) continue;
-    nodes.push_back(
-        {{x[k][0], x[k][1], x[k][2]}, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k});
-    for (int d = 0; d < 3; d++) {
-      lo[d] = MIN(lo[d], x[k][d]);
-      hi[d] = MAX(hi[d], x[k][d]);
-    }
+    if (interior && !capdone)
+      all.push_back({{x[k][0], x[k][1], x[k][2]},
+                     0.0,
+                     tag[k],
+                     0,
+                     k,
+                     -1,
+                     1,
+                     (tagint) cnb[k][0],
+                     (tagint) cnb[k][1]});
   }
+  for (const Seg &sg : all)
+    for (int d = 0; d < 3; d++) {
+      lo[d] = MIN(lo[d], sg.m[d]);
+      hi[d] = MAX(hi[d], sg.m[d]);
+    }
   const double R = lmax_used + reach_max;
   if (!all.empty()) {
     double bsize = 0.5 * R;
@@ -797,14 +804,6 @@ void PairNCFContact::compute(int eflag, int vflag)
       std::vector<int> fill(start.begin(), start.end() - 1);
       for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
     }
-    std::vector<int> nstart(nbins + 1, 0), nbin(nodes.size());
-    for (size_t n = 0; n < nodes.size(); n++) nstart[(nbin[n] = binof(nodes[n].x)) + 1]++;
-    for (int k = 0; k < nbins; k++) nstart[k + 1] += nstart[k];
-    std::vector<Node> nsorted(nodes.size());
-    {
-      std::vector<int> fill(nstart.begin(), nstart.end() - 1);
-      for (size_t n = 0; n < nodes.size(); n++) nsorted[fill[nbin[n]]++] = nodes[n];
-    }
     // stencil of bin offsets whose nearest points are within R
     std::vector<std::array<int, 3>> stencil;
     for (int k = -reachb; k <= reachb; k++)
@@ -815,7 +814,7 @@ void PairNCFContact::compute(int eflag, int vflag)
           if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
         }
     for (const Seg &sa : sorted) {
-      if (sa.owner >= nlocal) continue;
+      if (sa.owner >= nlocal || sa.slot < 0) continue;
       const int ao = sa.owner;
       const tagint ta = sa.tag, tpa = sa.ptag;
       int c[3];
@@ -826,34 +825,30 @@ void PairNCFContact::compute(int eflag, int vflag)
         const int q = (cz * nb[1] + cy) * nb[0] + cx;
         for (int n = start[q]; n < start[q + 1]; n++) {
           const Seg &sb = sorted[n];
-          if (sb.tag < ta || (sb.tag == ta && sb.ptag <= tpa)) continue;
+          // a superset of both tests below: the owner node is an end of the segment
           const double ex = sa.m[0] - sb.m[0], ey = sa.m[1] - sb.m[1], ez = sa.m[2] - sb.m[2];
           const double lim = sa.half + sb.half + reach_max;
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-          segment_pair(ao, sa.slot, sb.owner, sb.slot);
-        }
-        // node caps: interior nodes of other chains (or far along this one) near segment A
-        for (int n = nstart[q]; n < nstart[q + 1]; n++) {
-          const Node &nd = nsorted[n];
-          if (nd.tag == ta || nd.tag == tpa || nd.tp == ta || nd.tp == tpa || nd.tq == ta ||
-              nd.tq == tpa)
+          if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
+            segment_pair(ao, sa.slot, sb.owner, sb.slot);
+          if (!sb.cap) continue;
+          // node cap of the owner of entry sb: interior nodes of other chains (or far along
+          // this one) near segment A
+          if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
+              sb.tq == tpa)
             continue;
-          const double ex = sa.m[0] - nd.x[0], ey = sa.m[1] - nd.x[1], ez = sa.m[2] - nd.x[2];
-          const double lim = sa.half + reach_max;
-          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-          {
-            // the cap acts only where A comes within D of the node
-            const double *a0 = x[ao], *a1 = x[segp[2 * ao + sa.slot]];
-            const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
-            const double wx = nd.x[0] - a0[0], wy = nd.x[1] - a0[1], wz = nd.x[2] - a0[2];
-            const double uu = ux * ux + uy * uy + uz * uz;
-            double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
-            t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-            const double cx = wx - t * ux, cy = wy - t * uy, cz = wz - t * uz;
-            const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[nd.idx]]);
-            if (cx * cx + cy * cy + cz * cz >= dcap * dcap) continue;
-          }
-          node_pair(ao, sa.slot, nd.idx);
+          const double *xn = x[sb.owner];
+          const double *a0 = x[ao], *a1 = x[segp[2 * ao + sa.slot]];
+          const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+          const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
+          const double uu = ux * ux + uy * uy + uz * uz;
+          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[sb.owner]]);
+          // the cap acts only where A comes within D of the node
+          if (px * px + py * py + pz * pz >= dcap * dcap) continue;
+          node_pair(ao, sa.slot, sb.owner);
         }
       }
     }
