@@ -11,40 +11,40 @@ namespace NCF {
 
 namespace {
 
-// interval [lo, hi] of xi where q(xi) = qa xi^2 + qb xi + qc' < 0 (qc' = qc - D^2 folded in);
-// false if empty. qa >= 0.
-bool negative_interval(double qa, double qb, double qc, double qa_tiny, double &lo, double &hi)
-{
-  constexpr double BIG = 1e300;
-  if (qa <= qa_tiny) {
-    // (nearly) exactly parallel: linear or constant
-    if (qb == 0.0) {
-      if (qc < 0.0) {
-        lo = -BIG;
-        hi = BIG;
-        return true;
+  // interval [lo, hi] of xi where q(xi) = qa xi^2 + qb xi + qc' < 0 (qc' = qc - D^2 folded in);
+  // false if empty. qa >= 0.
+  bool negative_interval(double qa, double qb, double qc, double qa_tiny, double &lo, double &hi)
+  {
+    constexpr double BIG = 1e300;
+    if (qa <= qa_tiny) {
+      // (nearly) exactly parallel: linear or constant
+      if (qb == 0.0) {
+        if (qc < 0.0) {
+          lo = -BIG;
+          hi = BIG;
+          return true;
+        }
+        return false;
       }
-      return false;
+      const double root = -qc / qb;
+      if (qb > 0.0) {
+        lo = -BIG;
+        hi = root;
+      } else {
+        lo = root;
+        hi = BIG;
+      }
+      return true;
     }
-    const double root = -qc / qb;
-    if (qb > 0.0) {
-      lo = -BIG;
-      hi = root;
-    } else {
-      lo = root;
-      hi = BIG;
-    }
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (disc <= 0.0) return false;
+    const double sq = std::sqrt(disc);
+    const double qq = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));    // never 0 since disc > 0
+    const double x1 = qq / qa, x2 = qc / qq;
+    lo = std::min(x1, x2);
+    hi = std::max(x1, x2);
     return true;
   }
-  const double disc = qb * qb - 4.0 * qa * qc;
-  if (disc <= 0.0) return false;
-  const double sq = std::sqrt(disc);
-  const double qq = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));    // never 0 since disc > 0
-  const double x1 = qq / qa, x2 = qc / qq;
-  lo = std::min(x1, x2);
-  hi = std::max(x1, x2);
-  return true;
-}
 
 }    // namespace
 
@@ -145,7 +145,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       length += om * la * w;
       // dE/dx
       const Vec3 dpart = kn * la * (-(h * w / dc) * r + (hh * wd) * gp);    // through p
-      const Vec3 lpart = (om * kn * hh * w) * ea;                             // through la
+      const Vec3 lpart = (om * kn * hh * w) * ea;                           // through la
       g[0] += om * (1.0 - xi) * dpart - lpart;
       g[1] += om * xi * dpart + lpart;
       g[2] += (om * kn * la) * (((1.0 - t) * h * w / dc) * r + (hh * wd) * gb0);
@@ -165,8 +165,6 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   out.energy = energy;
   for (int n = 0; n < 4; n++) out.f[n] = -g[n];
   out.length = length;
-  out.fn = norm(fres);
-  if (out.fn > 0.0) out.normal = (1.0 / out.fn) * fres;
   if (msum > 0.0) {
     out.xi = mxi / msum;
     out.t = clamp01(ms / msum / lb);
@@ -174,13 +172,179 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
     out.xi = 0.5 * (lo + hi);
     out.t = clamp01((s0 + s1 * out.xi) / lb);
   }
+  // normal direction: the offset from B's line of the point of A's line closest to it (the
+  // common perpendicular of the two lines), that point being kept within one contact distance
+  // of this pair's contact zone on A. Two pairs that share one contact (a crossing on a node of
+  // A, or of B) therefore take the same normal and their normal forces add up without loss or
+  // excess; for (nearly) parallel segments it is the offset at the end of the zone nearest to
+  // B's line. Where the axes touch: the direction of the resultant.
+  const double qa = norm2(r1);
+  double xs = 0.5 * (lo + hi);
+  if (qa > 1e-28 * la * la) {
+    const double ext = dc / la;
+    xs = std::min(hi + ext, std::max(lo - ext, -dot(r0, r1) / qa));
+  }
+  const Vec3 rs = r0 + xs * r1;
+  const double rn = norm(rs), fr = norm(fres);
+  if (rn > 1e-9 * dc) {
+    out.normal = (1.0 / rn) * rs;
+    out.fn = std::max(0.0, dot(fres, out.normal));
+  } else if (fr > 0.0) {
+    out.normal = (1.0 / fr) * fres;
+    out.fn = fr;
+  }
   const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
   out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
   return out;
 }
 
-FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt,
-                             double kt, double fn, double mu)
+namespace {
+  constexpr double DEFICIT_TOL = 1e-9;
+  // weight W of a segment (start b0, unit direction eb, length lb) at arc position s, and the
+  // gradient of its active ramp variable with respect to the point x, b0 and b1 (r: offset of x
+  // from the segment's line)
+  struct Weight {
+    double w = 0.0, wd = 0.0;
+    Vec3 gx, gb0, gb1;
+  };
+  inline Weight weight_of(double s, double lb, double e, const Vec3 &eb, const Vec3 &r)
+  {
+    Weight out;
+    const double inv2e = 0.5 / e;
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
+    const Vec3 rl = (1.0 / lb) * r;
+    if (wa <= wb) {
+      out.w = wa;
+      out.gx = eb;
+      out.gb0 = -eb - rl;
+      out.gb1 = rl;
+    } else {
+      out.w = wb;
+      out.gx = -eb;
+      out.gb0 = rl;
+      out.gb1 = eb - rl;
+    }
+    if (out.w >= 1.0) {
+      out.w = 1.0;
+    } else if (out.w <= 0.0) {
+      out.w = 0.0;
+    } else {
+      out.wd = inv2e;
+    }
+    return out;
+  }
+}    // namespace
+
+NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
+                         const Vec3 &q, double dc, double kn, double ramp)
+{
+  NodeContact out;
+  if (!(dc > 0.0) || !(ramp > 0.0)) return out;
+  const Vec3 da = a1 - a0, u1 = n - p, u2 = q - n;
+  const double la = norm(da), l1 = norm(u1), l2 = norm(u2);
+  const double lmin = MIN_LENGTH * dc;
+  if (!(la > lmin) || !(l1 > lmin) || !(l2 > lmin)) return out;
+  const Vec3 ea = (1.0 / la) * da, e1 = (1.0 / l1) * u1, e2 = (1.0 / l2) * u2;
+  const double d2 = dc * dc, e = ramp;
+
+  // |x(xi) - n|^2 < D^2 along A
+  const Vec3 w0 = a0 - n;
+  double lo, hi;
+  if (!negative_interval(norm2(da), 2.0 * dot(w0, da), norm2(w0) - d2, 1e-28 * la * la, lo, hi))
+    return out;
+  lo = std::max(lo, 0.0);
+  hi = std::min(hi, 1.0);
+  if (!(hi > lo)) return out;
+
+  // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
+  const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
+  const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
+  double brk[24];
+  int nb = 0;
+  brk[nb++] = lo;
+  const double c1[5] = {-e, e, l1 - e, l1 + e, 0.5 * l1}, c2[5] = {-e, e, l2 - e, l2 + e, 0.5 * l2};
+  for (int k = 0; k < 5; k++) {
+    if (std::fabs(s11) > 1e-14 * la) {
+      const double x = (c1[k] - s10) / s11;
+      if (x > lo && x < hi) brk[nb++] = x;
+    }
+    if (std::fabs(s21) > 1e-14 * la) {
+      const double x = (c2[k] - s20) / s21;
+      if (x > lo && x < hi) brk[nb++] = x;
+    }
+  }
+  brk[nb++] = hi;
+  for (int a = 1; a < nb; a++)
+    for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
+  // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
+  auto deficit = [&](double xi) {
+    const Vec3 x = a0 + xi * da;
+    const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
+    const Weight w1 = weight_of(s1, l1, e, e1, x - p - s1 * e1);
+    const Weight w2 = weight_of(s2, l2, e, e2, x - n - s2 * e2);
+    return 1.0 - w1.w - w2.w - DEFICIT_TOL;
+  };
+  double pts[48];
+  int np = 0;
+  for (int k = 0; k + 1 < nb; k++) {
+    pts[np++] = brk[k];
+    const double fa = deficit(brk[k]), fb = deficit(brk[k + 1]);
+    if ((fa > 0.0 && fb < 0.0) || (fa < 0.0 && fb > 0.0)) {
+      const double x = brk[k] + (brk[k + 1] - brk[k]) * fa / (fa - fb);
+      if (x > brk[k] && x < brk[k + 1]) pts[np++] = x;
+    }
+  }
+  pts[np++] = brk[nb - 1];
+
+  // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
+  static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                               0.8611363115940526};
+  static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                               0.3478548451374538};
+  Vec3 g[5];
+  double energy = 0.0;
+  for (int k = 0; k + 1 < np; k++) {
+    const double half = 0.5 * (pts[k + 1] - pts[k]);
+    if (!(half > 0.0)) continue;
+    const double mid = 0.5 * (pts[k + 1] + pts[k]);
+    for (int qd = 0; qd < 4; qd++) {
+      const double xi = mid + half * gx[qd];
+      const double om = half * gw[qd];
+      const Vec3 x = a0 + xi * da;
+      const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
+      const Vec3 r1 = x - p - s1 * e1, r2 = x - n - s2 * e2;
+      const Weight w1 = weight_of(s1, l1, e, e1, r1);
+      const Weight w2 = weight_of(s2, l2, e, e2, r2);
+      const double def = 1.0 - w1.w - w2.w - DEFICIT_TOL;    // round-off of straight chains
+      if (def <= 0.0) continue;
+      const Vec3 rn = x - n;
+      double h = (d2 - norm2(rn)) / (2.0 * dc);
+      if (h <= 0.0) continue;
+      // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
+      // through straight (the deficit grows like the kink angle)
+      const double hh = 0.5 * h * h, dd = def * def, ddp = 2.0 * def * hh;
+      energy += om * kn * la * hh * dd;
+      // dE/d(x): through h (x and n), through the deficit (x, p, n, q), through la (a0, a1)
+      const Vec3 gxp = kn * la * ((-(h * dd) / dc) * rn - ddp * (w1.wd * w1.gx + w2.wd * w2.gx));
+      const Vec3 lpart = (om * kn * hh * dd) * ea;
+      g[0] += om * (1.0 - xi) * gxp - lpart;
+      g[1] += om * xi * gxp + lpart;
+      g[2] += (om * kn * la) * (-ddp * w1.wd * w1.gb0);
+      g[3] += (om * kn * la) * (((h * dd) / dc) * rn - ddp * (w1.wd * w1.gb1 + w2.wd * w2.gb0));
+      g[4] += (om * kn * la) * (-ddp * w2.wd * w2.gb1);
+    }
+  }
+  if (!(energy > 0.0)) return out;
+  out.active = true;
+  out.energy = energy;
+  for (int k = 0; k < 5; k++) out.f[k] = -g[k];
+  const ClosestPoints cp = closest_points_segments(a0, a1, n, n);
+  out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  return out;
+}
+
+FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
+                             double fn, double mu)
 {
   FrictionResult out;
   if (!(kt > 0.0) || !(fn > 0.0) || !(mu > 0.0)) {

@@ -39,14 +39,15 @@
 namespace NCF {
 
 struct SegmentContact {
-  bool active = false;      // true if any part of A penetrates B's cylinder (within W > 0)
-  double energy = 0.0;      // E [J]
-  Vec3 f[4];                // forces on A0, A1, B0, B1 [N] (= -dE/dx)
-  double fn = 0.0;          // magnitude of the resultant normal force on A [N]
-  Vec3 normal;              // unit direction of that resultant (from B towards A)
-  double xi = 0.0;          // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
-  double t = 0.0;           // contact point on B: B0 + t (B1 - B0), in [0, 1]
-  double length = 0.0;      // contact length l_c = integral of W over the penetrated part [m]
+  bool active = false;         // true if any part of A penetrates B's cylinder (within W > 0)
+  double energy = 0.0;         // E [J]
+  Vec3 f[4];                   // forces on A0, A1, B0, B1 [N] (= -dE/dx)
+  double fn = 0.0;             // normal force on A along `normal` (>= 0) [N]
+  Vec3 normal;                 // unit normal: from B's line to the point of A in contact closest to
+                               // it; the direction of the resultant where the axes touch
+  double xi = 0.0;             // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
+  double t = 0.0;              // contact point on B: B0 + t (B1 - B0), in [0, 1]
+  double length = 0.0;         // contact length l_c = integral of W over the penetrated part [m]
   double penetration = 0.0;    // D - (distance of the closest points of the two segments) [m]
 };
 
@@ -60,6 +61,26 @@ constexpr double MIN_LENGTH = 1e-3;
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
                                double dc, double kn, double ramp);
 
+// Contact of segment A (a0-a1) with the interior node n of another chain (neighbours p and q on
+// that chain), filling the part of the node's sphere (radius D around n) that the ramps of the
+// two segments p-n and n-q leave uncovered on the convex side of a kink:
+//
+//   E = (k_n / 2) * integral over A of  max(0, 1 - W_pn - W_nq)^2 * h_n(x)^2  dx,
+//   h_n = (D^2 - |x - n|^2) / (2 D) > 0,
+//
+// with W_pn, W_nq the weights of segment_contact. Zero for a straight chain (the ramps add up to
+// 1), so it only acts at kinks; the deficit enters squared so that the energy stays smooth when a
+// chain passes through straight. Exact integral and gradient as in segment_contact.
+// Forces: f[0], f[1] on a0, a1; f[2], f[3], f[4] on p, n, q. Normal part only (no friction).
+struct NodeContact {
+  bool active = false;
+  double energy = 0.0;
+  Vec3 f[5];
+  double penetration = 0.0;    // D - distance of segment A from n [m]
+};
+NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
+                         const Vec3 &q, double dc, double kn, double ramp);
+
 // One step of the Coulomb slip spring.
 //   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)
 //   normal: unit normal of the contact; vrel: velocity of A's contact point minus B's [m/s]
@@ -71,8 +92,8 @@ struct FrictionResult {
   bool sliding = false;
   double energy = 0.0;    // elastic energy stored in the spring after the step [J]
 };
-FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt,
-                             double kt, double fn, double mu);
+FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
+                             double fn, double mu);
 
 // Critical time step of a node of mass m pressed by a contact of stiffness kn over a length l:
 // dt_c = 2 sqrt(m / (kn l)) (explicit central differences). See doc/pair_ncf_contact.md.

@@ -21,11 +21,26 @@ struct Vec3 {
   double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
 };
 
-inline Vec3 operator+(const Vec3 &a, const Vec3 &b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(const Vec3 &a, const Vec3 &b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator-(const Vec3 &a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3 operator*(double s, const Vec3 &a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Vec3 operator*(const Vec3 &a, double s) { return {s * a.x, s * a.y, s * a.z}; }
+inline Vec3 operator+(const Vec3 &a, const Vec3 &b)
+{
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(const Vec3 &a, const Vec3 &b)
+{
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator-(const Vec3 &a)
+{
+  return {-a.x, -a.y, -a.z};
+}
+inline Vec3 operator*(double s, const Vec3 &a)
+{
+  return {s * a.x, s * a.y, s * a.z};
+}
+inline Vec3 operator*(const Vec3 &a, double s)
+{
+  return {s * a.x, s * a.y, s * a.z};
+}
 inline Vec3 &operator+=(Vec3 &a, const Vec3 &b)
 {
   a.x += b.x;
@@ -40,14 +55,26 @@ inline Vec3 &operator-=(Vec3 &a, const Vec3 &b)
   a.z -= b.z;
   return a;
 }
-inline double dot(const Vec3 &a, const Vec3 &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double dot(const Vec3 &a, const Vec3 &b)
+{
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 inline Vec3 cross(const Vec3 &a, const Vec3 &b)
 {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double norm2(const Vec3 &a) { return dot(a, a); }
-inline double norm(const Vec3 &a) { return std::sqrt(dot(a, a)); }
-inline Vec3 lerp(const Vec3 &a, const Vec3 &b, double t) { return a + t * (b - a); }
+inline double norm2(const Vec3 &a)
+{
+  return dot(a, a);
+}
+inline double norm(const Vec3 &a)
+{
+  return std::sqrt(dot(a, a));
+}
+inline Vec3 lerp(const Vec3 &a, const Vec3 &b, double t)
+{
+  return a + t * (b - a);
+}
 
 // Closest points of segment P(s) = p0 + s (p1 - p0) and Q(t) = q0 + t (q1 - q0), s, t in [0, 1].
 // dist2 is the squared distance of the closest points. For parallel segments the closest points
@@ -60,7 +87,10 @@ struct ClosestPoints {
   bool parallel = false;
 };
 
-inline double clamp01(double v) { return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v); }
+inline double clamp01(double v)
+{
+  return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
+}
 
 inline ClosestPoints closest_points_segments(const Vec3 &p0, const Vec3 &p1, const Vec3 &q0,
                                              const Vec3 &q1)

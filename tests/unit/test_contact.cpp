@@ -18,8 +18,8 @@ using NCF::Vec3;
 
 namespace {
 
-const double D = 69e-6;           // contact distance (equal diameters 69 um)
-const double KN = 1e7;            // normal stiffness per length [Pa]
+const double D = 69e-6;          // contact distance (equal diameters 69 um)
+const double KN = 1e7;           // normal stiffness per length [Pa]
 const double RAMP = 0.25 * D;    // ramp half-width
 
 double energy_of(const Vec3 x[4])
@@ -27,7 +27,10 @@ double energy_of(const Vec3 x[4])
   return segment_contact(x[0], x[1], x[2], x[3], D, KN, RAMP).energy;
 }
 
-Vec3 resultant(const SegmentContact &c) { return c.f[0] + c.f[1] + c.f[2] + c.f[3]; }
+Vec3 resultant(const SegmentContact &c)
+{
+  return c.f[0] + c.f[1] + c.f[2] + c.f[3];
+}
 Vec3 moment(const SegmentContact &c, const Vec3 x[4])
 {
   Vec3 m;
@@ -254,8 +257,8 @@ TEST(Contact, NearlyParallelRootsAreStable)
   for (int k = 3; k <= 15; k++) {
     const double ang = std::pow(10.0, -k);
     const Vec3 dir(std::cos(ang), std::sin(ang), 0), c(0, 0, gap);
-    auto r = segment_contact(Vec3(-L / 2, 0, 0), Vec3(L / 2, 0, 0), c - L * dir, c + L * dir, D,
-                             KN, RAMP);
+    auto r = segment_contact(Vec3(-L / 2, 0, 0), Vec3(L / 2, 0, 0), c - L * dir, c + L * dir, D, KN,
+                             RAMP);
     ASSERT_TRUE(r.active);
     if (k > 3) EXPECT_NEAR(r.energy, prev, 1e-4 * prev);
     prev = r.energy;
@@ -294,4 +297,92 @@ TEST(Friction, StickBelowCapSlideAtCap)
   auto r4 = friction_step(s4, n, v, dt, kt, fn, 0.0);
   EXPECT_EQ(NCF::norm(r4.force), 0.0);
   EXPECT_EQ(NCF::norm(s4), 0.0);
+}
+
+// ---------------------------------------------------------------- node caps at kinks
+
+namespace {
+double node_energy(const Vec3 x[5])
+{
+  return NCF::node_contact(x[0], x[1], x[2], x[3], x[4], D, KN, RAMP).energy;
+}
+}    // namespace
+
+TEST(NodeContact, ForceIsMinusEnergyGradientAndBalanced)
+{
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int tested = 0;
+  for (int trial = 0; trial < 2000 && tested < 100; trial++) {
+    const double L = 1e-4;
+    // a kinked chain p - n - q (kink 40..150 deg) and a segment A near the convex side of n
+    const double kink = (trial % 2) ? 0.7 + 1.9 * (0.5 + 0.5 * u(rng))
+                                    : M_PI - 0.2 * (0.5 + 0.5 * u(rng));
+    const Vec3 n(0, 0, 0);
+    const Vec3 p = n + L * Vec3(-std::cos(0.5 * kink), -std::sin(0.5 * kink), 0);
+    const Vec3 q = n + L * Vec3(std::cos(0.5 * kink), -std::sin(0.5 * kink), 0);
+    const Vec3 c = Vec3(0.3 * D * u(rng), 0.8 * D + 0.25 * D * u(rng), 0.3 * D * u(rng));
+    const double ang = 3.0 * u(rng), tilt = 0.5 * u(rng);
+    const Vec3 dir(std::cos(ang) * std::cos(tilt), std::sin(tilt), std::sin(ang) * std::cos(tilt));
+    Vec3 x[5] = {c - 0.6 * L * dir, c + 0.6 * L * dir, p, n, q};
+    auto r = NCF::node_contact(x[0], x[1], x[2], x[3], x[4], D, KN, RAMP);
+    if (!r.active) continue;
+    tested++;
+    double fmax = 0.0;
+    Vec3 fsum, msum;
+    for (int k = 0; k < 5; k++) {
+      fmax = std::max(fmax, NCF::norm(r.f[k]));
+      fsum += r.f[k];
+      msum += NCF::cross(x[k], r.f[k]);
+    }
+    EXPECT_LT(NCF::norm(fsum), 1e-12 * fmax);
+    EXPECT_LT(NCF::norm(msum), 1e-11 * fmax * L);
+    const double h = 1e-6 * D;
+    for (int k = 0; k < 5; k++)
+      for (int d = 0; d < 3; d++) {
+        Vec3 xp[5], xm[5];
+        for (int m = 0; m < 5; m++) xp[m] = xm[m] = x[m];
+        double *pp = (d == 0) ? &xp[k].x : (d == 1 ? &xp[k].y : &xp[k].z);
+        double *pm = (d == 0) ? &xm[k].x : (d == 1 ? &xm[k].y : &xm[k].z);
+        *pp += h;
+        *pm -= h;
+        const double fd = -(node_energy(xp) - node_energy(xm)) / (2.0 * h);
+        EXPECT_NEAR(r.f[k][d], fd, 1e-6 * fmax + 1e-12) << "trial " << trial << " node " << k;
+      }
+  }
+  EXPECT_GE(tested, 50);
+}
+
+TEST(NodeContact, NothingOnAStraightChain)
+{
+  // on a straight chain the two ramps cover the node's sphere exactly: no cap contact
+  const Vec3 p(-1e-4, 0, 0), n(0, 0, 0), q(1e-4, 0, 0);
+  for (double off : {0.0, 0.3 * D, 0.9 * D})
+    for (double ang : {0.0, 0.4, M_PI / 2}) {
+      const Vec3 c(off, 0.0, 0.8 * D), dir(std::cos(ang), std::sin(ang), 0);
+      auto r = NCF::node_contact(c - 1e-4 * dir, c + 1e-4 * dir, p, n, q, D, KN, RAMP);
+      auto ref = segment_contact(c - 1e-4 * dir, c + 1e-4 * dir, p, n, D, KN, RAMP);
+      EXPECT_LT(r.energy, 1e-12 * (ref.energy + 1e-30)) << off << " " << ang;
+    }
+}
+
+TEST(NodeContact, KinkConvexSideIsCovered)
+{
+  // a short segment pressed onto the outside of a 90 deg kink along the bisector: with the node
+  // cap the force is close to that on a straight chain at the same penetration; without it, it
+  // would be a small fraction
+  const double L = 1e-4, gap = 0.9 * D;
+  const Vec3 n(0, 0, 0), p = L * Vec3(-std::sqrt(0.5), -std::sqrt(0.5), 0),
+                         q = L * Vec3(std::sqrt(0.5), -std::sqrt(0.5), 0);
+  const Vec3 a0(0, gap, -0.6 * L), a1(0, gap, 0.6 * L);    // across the kink's plane
+  auto s1 = segment_contact(a0, a1, p, n, D, KN, RAMP),
+       s2 = segment_contact(a0, a1, n, q, D, KN, RAMP);
+  auto cap = NCF::node_contact(a0, a1, p, n, q, D, KN, RAMP);
+  const double without = (s1.f[0] + s1.f[1] + s2.f[0] + s2.f[1]).y;
+  const double with = without + (cap.f[0] + cap.f[1]).y;
+  auto straight = segment_contact(a0, a1, Vec3(-L, 0, 0), Vec3(L, 0, 0), D, KN, RAMP);
+  const double ref = (straight.f[0] + straight.f[1]).y;
+  EXPECT_GT(with, 0.9 * ref);
+  EXPECT_LT(with, 1.1 * ref);
+  EXPECT_LT(without, 0.5 * ref) << "the ramps alone leave the convex side of the kink uncovered";
 }

@@ -25,9 +25,22 @@ TEST(Geometry, ClosestPointsTable)
       {"crossing at right angles", {-1, 0, 0}, {1, 0, 0}, {0, -1, 1}, {0, 1, 1}, 0.5, 0.5, 1.0},
       {"skew, ends clamp", {0, 0, 0}, {1, 0, 0}, {2, -1, 1}, {2, 1, 1}, 1.0, 0.5, std::sqrt(2.0)},
       {"axes touching", {-1, 0, 0}, {1, 0, 0}, {0.5, -1, 0}, {0.5, 1, 0}, 0.75, 0.5, 0.0},
-      {"parallel overlap -> middle of overlap", {0, 0, 0}, {4, 0, 0}, {1, 0, 2}, {7, 0, 2}, 0.625,
-       (2.5 - 1.0) / 6.0, 2.0},
-      {"parallel, no overlap", {0, 0, 0}, {1, 0, 0}, {3, 1, 0}, {5, 1, 0}, 1.0, 0.0, std::sqrt(5.0)},
+      {"parallel overlap -> middle of overlap",
+       {0, 0, 0},
+       {4, 0, 0},
+       {1, 0, 2},
+       {7, 0, 2},
+       0.625,
+       (2.5 - 1.0) / 6.0,
+       2.0},
+      {"parallel, no overlap",
+       {0, 0, 0},
+       {1, 0, 0},
+       {3, 1, 0},
+       {5, 1, 0},
+       1.0,
+       0.0,
+       std::sqrt(5.0)},
       {"anti-parallel overlap", {0, 0, 0}, {2, 0, 0}, {3, 0, 1}, {1, 0, 1}, 0.75, 0.75, 1.0},
       {"collinear, separated", {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, 1.0, 0.0, 1.0},
       {"point vs segment", {0.3, 1, 0}, {0.3, 1, 0}, {0, 0, 0}, {1, 0, 0}, 0.0, 0.3, 1.0},
@@ -51,7 +64,7 @@ TEST(Geometry, ClosestPointsAreAMinimumOverRandomSegments)
     Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng));
     Vec3 q0(u(rng), u(rng), u(rng)), q1(u(rng), u(rng), u(rng));
     if (trial % 3 == 0) q1 = q0 + (p1 - p0) * 0.7;    // parallel
-    if (trial % 5 == 0) q1 = q0;                       // degenerate
+    if (trial % 5 == 0) q1 = q0;                      // degenerate
     auto cp = closest_points_segments(p0, p1, q0, q1);
     ASSERT_GE(cp.s, 0.0);
     ASSERT_LE(cp.s, 1.0);
@@ -62,7 +75,8 @@ TEST(Geometry, ClosestPointsAreAMinimumOverRandomSegments)
     double best = 1e300;
     for (int i = 0; i <= 200; i++)
       for (int j = 0; j <= 200; j++)
-        best = std::min(best, NCF::norm2(NCF::lerp(p0, p1, i / 200.0) - NCF::lerp(q0, q1, j / 200.0)));
+        best =
+            std::min(best, NCF::norm2(NCF::lerp(p0, p1, i / 200.0) - NCF::lerp(q0, q1, j / 200.0)));
     EXPECT_LE(std::sqrt(cp.dist2), std::sqrt(best) + 1e-12) << "trial " << trial;
   }
 }

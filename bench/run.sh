@@ -1,0 +1,51 @@
+#!/bin/bash
+# pair ncf/contact bench (design.md section 9; issue 3 item 6). Prints the cost per node per step of
+# pair ncf/contact on a compacted fibrous mat (69 um chains, 0.2 mm mesh, Vf 0.45, >= 20 000 nodes)
+# relative to LAMMPS pair gran/hooke/history on a sphere packing with the same number of particles
+# and a comparable number of contacts, and the 1 -> 2 rank speed-up of the mat.
+# Usage: bench/run.sh [steps]   (after tools/setup.sh; uses build/ncf-env.sh)
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(dirname "$here")
+source "$root/build/ncf-env.sh"
+steps=${1:-100}
+work=$(mktemp -d /tmp/ncf-bench.XXXXXX)
+[ -n "${NCF_BENCH_KEEP:-}" ] || trap 'rm -rf "$work"' EXIT    # NCF_BENCH_KEEP=1 keeps the logs
+cd "$work"
+mpirun=(mpirun --oversubscribe)
+[ "$(id -u)" = 0 ] && mpirun+=(--allow-run-as-root)
+
+echo "load average before the runs: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores (timings are only comparable on an idle machine)"
+python3 "$here/make_mat.py" mat.data --side 6e-3 --layers 16 --vf 0.45 | tee make.log
+nodes=$(awk '/ atoms$/{print $1; exit}' mat.data)
+# sphere packing with about the same number of particles
+side=$(python3 -c "import math; print(round(math.sqrt($nodes/30)))")
+nz=$(python3 -c "print(round($nodes/($side*$side)))")
+
+loop() { awk '/^Loop time of/{t=$4} END{print t}' "$1"; }
+pairt() { awk '/^Pair  *\|/{t=$3} END{print t}' "$1"; }
+contacts() { awk -v col="$2" 'f&&NF>=col&&$1~/^[0-9]+$/{c=$col} /^ *Step/{f=1} END{print c}' "$1"; }
+
+lmp -in "$here/in.ncf" -var data mat.data -var mu 0.3 -var steps "$steps" -log ncf1.log -screen none
+"${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var data mat.data -var mu 0.3 -var steps "$steps" -log ncf2.log -screen none
+lmp -in "$here/in.ncf" -var data mat.data -var mu 0.0 -var steps "$steps" -log ncf1mu0.log -screen none
+lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$steps" -log gran1.log -screen none
+grains=$(awk '/^Loop time of/{n=$NF=="atoms"?$(NF-1):n} END{print n}' gran1.log)
+
+t1=$(loop ncf1.log); t2=$(loop ncf2.log); t0=$(loop ncf1mu0.log); tg=$(loop gran1.log)
+p1=$(pairt ncf1.log); p0=$(pairt ncf1mu0.log); pg=$(pairt gran1.log)
+c_ncf=$(contacts ncf1.log 4); c_gran=$(contacts gran1.log 3)
+python3 - "$nodes" "$grains" "$steps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" <<'PY'
+import sys
+nodes, grains, steps = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[4:11])
+c_ncf, c_gran = float(sys.argv[11]), float(sys.argv[12]) / 2.0   # contact/atom counts each contact twice
+per = lambda t, n: t / (n * steps) * 1e6
+print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
+print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
+print(f"cost per node per step [us]: ncf/contact {per(t1, nodes):.3f} (pair {per(p1, nodes):.3f}), "
+      f"mu=0 {per(t0, nodes):.3f} (pair {per(p0, nodes):.3f}), gran/hooke/history {per(tg, grains):.3f} (pair {per(pg, grains):.3f})")
+print(f"mu = 0 (no history stored or communicated): pair {100 * (1 - p0 / p1):.1f} % cheaper, whole step {100 * (1 - t0 / t1):.1f} % cheaper")
+ratio = per(t1, nodes) / per(tg, grains)
+print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2:.2f}")
+PY

@@ -1,0 +1,1023 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: pair_style ncf/contact (see pair_ncf_contact.h, doc/pair_ncf_contact.md)
+
+   How each segment pair is visited exactly once:
+   - a segment (bond i-j of a chain) is owned by its lower-tag node;
+   - a half neighbour list of nodes without newton (cutoff D + 2 lmax + e) holds every pair of
+     owner nodes whose segments can touch: a pair of owned nodes once, a pair of an owned and a
+     ghost node on each of the two ranks;
+   - the pair (A owned by i, B owned by j) is computed only where key(A) < key(B), key = (lower
+     tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
+   - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
+   The friction history of the pair lives with A's owner node (a fix property/atom array), so it
+   migrates and restarts with it; the rank that computes the pair always owns it.
+------------------------------------------------------------------------- */
+
+#include "pair_ncf_contact.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include "ncf_contact.h"
+#include "ncf_lammps_compat.h"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using NCF::Vec3;
+
+namespace {
+enum { COMM_HIST, COMM_FORCE };
+
+struct SegKey {
+  tagint lo, hi;
+};
+inline bool key_less(const SegKey &a, const SegKey &b)
+{
+  return a.lo < b.lo || (a.lo == b.lo && a.hi < b.hi);
+}
+inline bool share_node(const SegKey &a, const SegKey &b)
+{
+  return a.lo == b.lo || a.lo == b.hi || a.hi == b.lo || a.hi == b.hi;
+}
+inline SegKey make_key(tagint a, tagint b)
+{
+  return a < b ? SegKey{a, b} : SegKey{b, a};
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
+{
+  restartinfo = 1;
+  single_enable = 0;
+  one_coeff = 0;
+  manybody_flag = 0;
+  ramp_frac = 0.25;
+  lmax_user = 0.0;
+  maxcontacts = 24;
+  fatom_flag = 0;
+  dtcheck = 2;
+  dt_critical = 0.0;
+  kn = ktr = mu = damp = cut = reachf = nullptr;
+  given = nullptr;
+  lmax_used = 0.0;
+  reach_max = 0.0;
+  use_history = use_velocity = false;
+  idx_cnb = idx_hist = idx_fc = -1;
+  ncol = 1 + 6 * maxcontacts;
+  comm_mode = COMM_HIST;
+  nextra = 4;
+  pvector = new double[nextra];
+  for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
+}
+
+PairNCFContact::~PairNCFContact()
+{
+  delete[] pvector;
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(kn);
+    memory->destroy(ktr);
+    memory->destroy(mu);
+    memory->destroy(damp);
+    memory->destroy(cut);
+    memory->destroy(reachf);
+    memory->destroy(given);
+  }
+}
+
+void PairNCFContact::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(kn, n + 1, n + 1, "pair:kn");
+  memory->create(ktr, n + 1, n + 1, "pair:ktr");
+  memory->create(mu, n + 1, n + 1, "pair:mu");
+  memory->create(damp, n + 1, n + 1, "pair:damp");
+  memory->create(cut, n + 1, n + 1, "pair:cut");
+  memory->create(reachf, n + 1, n + 1, "pair:reach");
+  memory->create(given, n + 1, n + 1, "pair:given");
+  for (int i = 0; i <= n; i++)
+    for (int j = 0; j <= n; j++) {
+      setflag[i][j] = given[i][j] = 0;
+      kn[i][j] = ktr[i][j] = mu[i][j] = damp[i][j] = cut[i][j] = reachf[i][j] = 0.0;
+    }
+  diameter.assign(n + 1, 0.0);
+  diamset.assign(n + 1, 0);
+}
+
+/* ----------------------------------------------------------------------
+   pair_style ncf/contact [ramp f] [lmax L] [maxcontacts N] [fatom yes|no]
+------------------------------------------------------------------------- */
+
+void PairNCFContact::settings(int narg, char **arg)
+{
+  int iarg = 0;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 2 > narg) error->all(FLERR, "pair_style ncf/contact: keyword {} needs a value", key);
+    const char *val = arg[iarg + 1];
+    if (key == "ramp") {
+      ramp_frac = utils::numeric(FLERR, val, false, lmp);
+      if (!(ramp_frac > 0.0) || ramp_frac > 1.0)
+        error->all(FLERR, "pair_style ncf/contact: ramp {} out of range (0, 1]", val);
+    } else if (key == "lmax") {
+      lmax_user = utils::numeric(FLERR, val, false, lmp);
+      if (lmax_user < 0.0) error->all(FLERR, "pair_style ncf/contact: lmax {} must be >= 0", val);
+    } else if (key == "maxcontacts") {
+      maxcontacts = utils::inumeric(FLERR, val, false, lmp);
+      if (maxcontacts < 1 || maxcontacts > 1000)
+        error->all(FLERR, "pair_style ncf/contact: maxcontacts {} out of range [1, 1000]", val);
+    } else if (key == "fatom") {
+      fatom_flag = utils::logical(FLERR, val, false, lmp);
+    } else if (key == "dtcheck") {
+      if (strcmp(val, "error") == 0)
+        dtcheck = 2;
+      else if (strcmp(val, "warn") == 0)
+        dtcheck = 1;
+      else if (strcmp(val, "no") == 0)
+        dtcheck = 0;
+      else
+        error->all(FLERR, "pair_style ncf/contact: dtcheck {} is not one of error, warn, no", val);
+    } else {
+      error->all(FLERR, "pair_style ncf/contact: unknown keyword {}", key);
+    }
+    iarg += 2;
+  }
+  ncol = 1 + 6 * maxcontacts;
+  // the per-atom contact force exists from here on, so that a dump or variable defined before the
+  // first run can name d_ncf_fcontact
+  if (fatom_flag && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
+    modify->add_fix(
+        fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J kn <Pa> [kt <ratio>] [mu <value>] [damp <N s/m^2>] [diameter <m>]
+   diameter sets the chain diameter of every type named in I and J
+------------------------------------------------------------------------- */
+
+void PairNCFContact::coeff(int narg, char **arg)
+{
+  if (narg < 2) error->all(FLERR, "pair_coeff ncf/contact: expected I J kn <value> ...");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  double kn_one = -1.0, kt_one = 1.0, mu_one = 0.0, damp_one = 0.0, d_one = -1.0;
+  int iarg = 2;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 2 > narg) error->all(FLERR, "pair_coeff ncf/contact: keyword {} needs a value", key);
+    const char *val = arg[iarg + 1];
+    const double v = utils::numeric(FLERR, val, false, lmp);
+    if (key == "kn") {
+      if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: kn {} must be > 0", val);
+      kn_one = v;
+    } else if (key == "kt") {
+      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: kt {} must be >= 0", val);
+      kt_one = v;
+    } else if (key == "mu") {
+      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: mu {} must be >= 0", val);
+      mu_one = v;
+    } else if (key == "damp") {
+      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: damp {} must be >= 0", val);
+      damp_one = v;
+    } else if (key == "diameter") {
+      if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: diameter {} must be > 0", val);
+      d_one = v;
+    } else {
+      error->all(FLERR, "pair_coeff ncf/contact: unknown keyword {}", key);
+    }
+    iarg += 2;
+  }
+  if (kn_one < 0.0 && d_one < 0.0)
+    error->all(FLERR, "pair_coeff ncf/contact: give kn (and optionally kt, mu, damp, diameter)");
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    if (d_one > 0.0) {
+      diameter[i] = d_one;
+      diamset[i] = 1;
+    }
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      if (d_one > 0.0) {
+        diameter[j] = d_one;
+        diamset[j] = 1;
+      }
+      if (kn_one > 0.0) {
+        kn[i][j] = kn_one;
+        ktr[i][j] = kt_one;
+        mu[i][j] = mu_one;
+        damp[i][j] = damp_one;
+        setflag[i][j] = given[i][j] = 1;
+      }
+      count++;
+    }
+  }
+  if (count == 0)
+    error->all(FLERR, "pair_coeff ncf/contact: no type pair in {} {}", arg[0], arg[1]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairNCFContact::create_stores()
+{
+  if (!modify->get_fix_by_id(TOPO_ID))
+    modify->add_fix(
+        fmt::format("{} all property/atom d2_ncf_cnb 2 ghost yes writedata no", TOPO_ID));
+  int flag, cols;
+  idx_cnb = atom->find_custom("ncf_cnb", flag, cols);
+  if (idx_cnb < 0 || flag != 1 || cols != 2)
+    error->all(FLERR, "pair ncf/contact: per-atom array d2_ncf_cnb of fix {} is malformed",
+               TOPO_ID);
+
+  idx_hist = -1;
+  if (use_history) {
+    if (!modify->get_fix_by_id(HIST_ID))
+      modify->add_fix(
+          fmt::format("{} all property/atom d2_ncf_chist {} ghost no writedata no", HIST_ID, ncol));
+    idx_hist = atom->find_custom("ncf_chist", flag, cols);
+    if (idx_hist < 0 || flag != 1 || cols != ncol)
+      error->all(FLERR,
+                 "pair ncf/contact: friction history d2_ncf_chist of fix {} has {} columns, "
+                 "expected {} (maxcontacts {}): was maxcontacts changed? unfix {} to start anew",
+                 HIST_ID, cols, ncol, maxcontacts, HIST_ID);
+  }
+  idx_fc = -1;
+  if (fatom_flag) {
+    if (!modify->get_fix_by_id(FORCE_ID))
+      modify->add_fix(
+          fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
+    idx_fc = atom->find_custom("ncf_fcontact", flag, cols);
+    if (idx_fc < 0 || flag != 1 || cols != 0)
+      error->all(FLERR, "pair ncf/contact: d_ncf_fcontact of fix {} is malformed", FORCE_ID);
+  }
+}
+
+// chain neighbours (tags) of the owned atoms, from the 1-2 special list
+void PairNCFContact::fill_topology()
+{
+  double **cnb = atom->darray[idx_cnb];
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    const int n = atom->nspecial[i][0];
+    if (n > 2)
+      error->one(FLERR,
+                 "pair ncf/contact: node {} has {} bonded neighbours; chains must be linear (<= 2)",
+                 atom->tag[i], n);
+    cnb[i][0] = n > 0 ? (double) atom->special[i][0] : 0.0;
+    cnb[i][1] = n > 1 ? (double) atom->special[i][1] : 0.0;
+  }
+}
+
+// longest segment of the system now (unwrapped positions gathered by tag, once per run)
+void PairNCFContact::find_lmax()
+{
+  const int nlocal = atom->nlocal;
+  const tagint maxtag = atom->map_tag_max;
+  std::vector<double> xall(3 * (size_t) (maxtag + 1), 0.0), mine(xall.size(), 0.0);
+  double unwrap[3];
+  for (int i = 0; i < nlocal; i++) {
+    domain->unmap(atom->x[i], atom->image[i], unwrap);
+    for (int d = 0; d < 3; d++) mine[3 * atom->tag[i] + d] = unwrap[d];
+  }
+  MPI_Allreduce(mine.data(), xall.data(), (int) xall.size(), MPI_DOUBLE, MPI_SUM, world);
+  double lmax = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
+      const tagint p = atom->special[i][s];
+      if (p <= atom->tag[i]) continue;
+      double r2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
+        r2 += dx * dx;
+      }
+      lmax = MAX(lmax, std::sqrt(r2));
+    }
+  // critical time step of the contacts: a node of mass m pressed against an equal one by parallel
+  // contacts over half its two segments, stiffness k = kn (L_1 + L_2)/2: dt_c = sqrt(2 m / k)
+  double knmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      if (given[i][j]) knmax = MAX(knmax, kn[i][j]);
+  double omega2 = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    double len = 0.0;
+    for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
+      const tagint p = atom->special[i][s];
+      double r2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
+        r2 += dx * dx;
+      }
+      len += 0.5 * std::sqrt(r2);
+    }
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    if (m > 0.0 && len > 0.0) omega2 = MAX(omega2, 2.0 * knmax * len / m);
+  }
+  double omega2all;
+  MPI_Allreduce(&omega2, &omega2all, 1, MPI_DOUBLE, MPI_MAX, world);
+  dt_critical = omega2all > 0.0 ? 2.0 / std::sqrt(omega2all) : 0.0;
+
+  double all;
+  MPI_Allreduce(&lmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  lmax_used = lmax_user > 0.0 ? lmax_user : 1.1 * all;
+  if (lmax_user > 0.0 && all > lmax_user)
+    error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all,
+               lmax_user);
+}
+
+void PairNCFContact::init_style()
+{
+  if (!atom->molecular || !atom->nspecial)
+    error->all(FLERR,
+               "pair ncf/contact requires a molecular atom style with bonds (atom_style bond)");
+  if (force->newton_pair == 0) error->all(FLERR, "pair ncf/contact requires newton pair on");
+  if (atom->map_style == Atom::MAP_NONE) error->all(FLERR, "pair ncf/contact requires an atom map");
+  for (int i = 1; i <= atom->ntypes; i++)
+    if (!diamset[i])
+      error->all(FLERR,
+                 "pair ncf/contact: no diameter for atom type {} (pair_coeff {} {} diameter D)", i,
+                 i, i);
+
+  use_history = use_velocity = false;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      double m = mu[i][j], g = damp[i][j];
+      if (!given[i][j]) {    // mixed values (init_one mixes the same way)
+        m = std::sqrt(mu[i][i] * mu[j][j]);
+        g = std::sqrt(damp[i][i] * damp[j][j]);
+      }
+      if (m > 0.0) use_history = true;
+      if (m > 0.0 || g > 0.0) use_velocity = true;
+    }
+  if (use_velocity && !comm->ghost_velocity)
+    error->all(FLERR,
+               "pair ncf/contact with friction (mu > 0) or damping requires ghost velocities: "
+               "use comm_modify vel yes");
+  comm_forward = use_history ? ncol : 0;
+  comm_reverse = fatom_flag ? 3 : 0;
+
+  create_stores();
+  fill_topology();
+  find_lmax();
+  reach_max = 0.0;
+  if (dt_critical > 0.0 && dtcheck && update->whichflag == 1) {
+    const double dt = update->dt;
+    if (comm->me == 0)
+      utils::logmesg(
+          lmp, "pair ncf/contact: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
+          dt_critical, dt, dt / dt_critical);
+    if (dt > dt_critical) {
+      const std::string msg = fmt::format(
+          "pair ncf/contact: timestep {:.6g} is above the critical time step {:.6g} of the "
+          "contacts (sqrt(2 m / (kn L))); the integration would blow up. Reduce the timestep or "
+          "kn, scale the masses up, or use 'pair_style ncf/contact dtcheck warn' to run anyway",
+          dt, dt_critical);
+      if (dtcheck == 2) error->all(FLERR, msg);
+      if (comm->me == 0) error->warning(FLERR, msg);
+    }
+  }
+
+  // no neighbour list: candidate pairs come from a cell list of segment midpoints (compute)
+
+  // the ghost shell must hold the partner node of every ghost owner in the list (+ lmax) and,
+  // for the friction history, the owners of the neighbouring segments (+ 2 lmax)
+  double dmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
+  const double need = dmax * (1.0 + ramp_frac) + 2.0 * lmax_used + neighbor->skin +
+      (use_history ? 2.0 : 1.0) * lmax_used;
+  if (comm->cutghostuser < need) {
+    if (comm->me == 0)
+      utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
+                     need, lmax_used);
+    comm->cutghostuser = need;
+  }
+}
+
+double PairNCFContact::init_one(int i, int j)
+{
+  if (!given[i][j]) {
+    if (!given[i][i] || !given[j][j])
+      error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable",
+                 i, j);
+    // springs in series for the stiffness; geometric mean for friction and damping
+    kn[i][j] = 2.0 * kn[i][i] * kn[j][j] / (kn[i][i] + kn[j][j]);
+    ktr[i][j] = 0.5 * (ktr[i][i] + ktr[j][j]);
+    mu[i][j] = std::sqrt(mu[i][i] * mu[j][j]);
+    damp[i][j] = std::sqrt(damp[i][i] * damp[j][j]);
+  }
+  kn[j][i] = kn[i][j];
+  ktr[j][i] = ktr[i][j];
+  mu[j][i] = mu[i][j];
+  damp[j][i] = damp[i][j];
+  const double dc = 0.5 * (diameter[i] + diameter[j]);
+  cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac) + 2.0 * lmax_used;
+  reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
+  reach_max = MAX(reach_max, reachf[i][j]);
+  return cut[i][j];
+}
+
+/* ----------------------------------------------------------------------
+   partner indices of the segments owned by every local and ghost atom (2 slots per atom):
+   -1 no segment, -2 partner node not present on this rank
+------------------------------------------------------------------------- */
+
+void PairNCFContact::set_segments()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
+  double **cnb = atom->darray[idx_cnb];
+  double **x = atom->x;
+  segp.assign(2 * (size_t) nall, -1);
+  nbr.assign(2 * (size_t) nall, -1);
+  segbox.resize(8 * (size_t) nall);
+  for (int k = 0; k < nall; k++)
+    for (int s = 0; s < 2; s++) {
+      const tagint p = (tagint) cnb[k][s];
+      if (p == 0) continue;
+      const int m = atom->map(p);
+      int q = (m < 0) ? -2 : domain->closest_image(k, m);
+      if (q >= 0 && k >= nlocal) {
+        // a ghost at the outer edge of the ghost shell may lack the image of its partner that
+        // belongs to it (closest_image then returns a far one): treat it as missing
+        const double ex = x[q][0] - x[k][0], ey = x[q][1] - x[k][1], ez = x[q][2] - x[k][2];
+        if (ex * ex + ey * ey + ez * ez > lmax_used * lmax_used * (1.0 + 1e-12)) q = -2;
+      }
+      nbr[2 * k + s] = q;
+      if (p <= tag[k]) continue;
+      segp[2 * k + s] = q;
+      if (q < 0) continue;
+      // bounding sphere of the segment: centre and radius (half length)
+      double *b = &segbox[8 * (size_t) k + 4 * s];
+      const double dx = x[q][0] - x[k][0], dy = x[q][1] - x[k][1], dz = x[q][2] - x[k][2];
+      b[0] = x[k][0] + 0.5 * dx;
+      b[1] = x[k][1] + 0.5 * dy;
+      b[2] = x[k][2] + 0.5 * dz;
+      b[3] = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
+    }
+}
+
+void PairNCFContact::other_partner(tagint node, tagint not_this, tagint &out) const
+{
+  out = 0;
+  const int m = atom->map(node);
+  if (m < 0) return;
+  double **cnb = atom->darray[idx_cnb];
+  for (int s = 0; s < 2; s++) {
+    const tagint p = (tagint) cnb[m][s];
+    if (p != 0 && p != not_this) out = p;
+  }
+}
+
+// stored slip of the pair (segment owner-ohi, segment blo-bhi), nullptr if none
+const double *PairNCFContact::find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const
+{
+  const int m = atom->map(owner);
+  if (m < 0) return nullptr;
+  const double *row = atom->darray[idx_hist][m];
+  const int n = (int) row[0];
+  for (int k = 0; k < n && k < maxcontacts; k++) {
+    const double *s = row + 1 + 6 * k;
+    if ((tagint) s[0] == ohi && (tagint) s[1] == blo && (tagint) s[2] == bhi) return s + 3;
+  }
+  return nullptr;
+}
+
+// a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
+// one segment further along one of them), so that a contact point sliding over a node keeps its
+// history; only values of the previous step are read (the same on any number of ranks)
+bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const
+{
+  const SegKey A{a0, a1}, B{b0, b1};
+  SegKey cand[4][2];
+  int nc = 0;
+  tagint p;
+  other_partner(b0, b1, p);
+  if (p) cand[nc][0] = A, cand[nc++][1] = make_key(b0, p);
+  other_partner(b1, b0, p);
+  if (p) cand[nc][0] = A, cand[nc++][1] = make_key(b1, p);
+  other_partner(a0, a1, p);
+  if (p) cand[nc][0] = make_key(a0, p), cand[nc++][1] = B;
+  other_partner(a1, a0, p);
+  if (p) cand[nc][0] = make_key(a1, p), cand[nc++][1] = B;
+  for (int c = 0; c < nc; c++) {
+    const SegKey &X = cand[c][0], &Y = cand[c][1];
+    if (share_node(X, Y)) continue;
+    const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
+    const double *s = find_slip(M.lo, M.hi, O.lo, O.hi);
+    if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
+      slip[0] = s[0];
+      slip[1] = s[1];
+      slip[2] = s[2];
+      return true;
+    }
+  }
+  return false;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairNCFContact::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const double dt = update->dt;
+
+  if (use_history) {
+    comm_mode = COMM_HIST;
+    comm->forward_comm(this);
+  }
+  set_segments();
+  if (use_history) {
+    // only the contact counts need clearing: slots are written before they are read
+    if (hnew.size() < (size_t) nlocal * ncol) hnew.resize((size_t) nlocal * ncol);
+    for (int i = 0; i < nlocal; i++) hnew[(size_t) i * ncol] = 0.0;
+  }
+  if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
+
+  double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
+
+  // every owned segment within the length the cutoffs were sized for
+  for (int i = 0; i < nlocal; i++)
+    for (int sa = 0; sa < 2; sa++) {
+      const int ia = segp[2 * i + sa];
+      if (ia == -1) continue;
+      if (ia == -2)
+        error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
+                   tag[i]);
+      if (segbox[8 * (size_t) i + 4 * sa + 3] * 2.0 > lmax_used)
+        error->one(FLERR,
+                   "pair ncf/contact: segment {}-{} is {:.6g} long, longer than lmax {:.6g} that "
+                   "the cutoffs were sized for; set pair_style keyword lmax",
+                   tag[i], tag[ia], 2.0 * segbox[8 * (size_t) i + 4 * sa + 3], lmax_used);
+    }
+
+  // contact of segment slot sa of node ao (owned here) with slot sb of node bo, key(A) < key(B)
+  auto segment_pair = [&](int ao, int sa, int bo, int sb) {
+    const int ia = segp[2 * ao + sa];
+    const int jb = segp[2 * bo + sb];
+    const double *ba = &segbox[8 * (size_t) ao + 4 * sa];
+    const int itype = type[ao], jtype = type[bo];
+    if (jb >= 0) {
+      // bounding spheres of the two segments (+ contact distance and ramps) apart: skip
+      const double *bb = &segbox[8 * (size_t) bo + 4 * sb];
+      const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
+      const double lim = ba[3] + bb[3] + reachf[itype][jtype];
+      if (ex * ex + ey * ey + ez * ez > lim * lim) return;
+    }
+    const SegKey A{tag[ao], tag[ia]};
+    if (jb == -2)
+      error->one(FLERR,
+                 "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[bo], tag[ao]);
+    const SegKey B{tag[bo], tag[jb]};
+    if (share_node(A, B)) return;
+    const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
+    {
+      // cheap exact test: the contact law is zero unless A comes within dc of B extended by the
+      // ramps at both ends
+      const Vec3 b0(x[bo]), b1(x[jb]);
+      const double lb = 2.0 * segbox[8 * (size_t) bo + 4 * sb + 3];
+      if (lb > 0.0) {
+        const Vec3 ext = (ramp_frac * dc / lb) * (b1 - b0);
+        const NCF::ClosestPoints cp =
+            NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), b0 - ext, b1 + ext);
+        if (cp.dist2 >= dc * dc) return;
+      }
+    }
+    const NCF::SegmentContact c = NCF::segment_contact(
+        Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]), dc, kn[itype][jtype], ramp_frac * dc);
+    if (!c.active) return;
+
+    Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
+    double espring = 0.0;
+    if (use_velocity && c.fn > 0.0) {
+      const double xi = c.xi, t = c.t;
+      const Vec3 vrel = ((1.0 - xi) * Vec3(v[ao]) + xi * Vec3(v[ia])) -
+          ((1.0 - t) * Vec3(v[bo]) + t * Vec3(v[jb]));
+      Vec3 ftot;
+      double fn = c.fn;
+      if (damp[itype][jtype] > 0.0) {
+        // normal dashpot per unit contact length, never pulling the chains together
+        double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
+        if (fd < -fn) fd = -fn;
+        fn += fd;
+        ftot += fd * c.normal;
+      }
+      const double m = mu[itype][jtype];
+      if (m > 0.0) {
+        double slip[3] = {0.0, 0.0, 0.0};
+        const double *old = find_slip(A.lo, A.hi, B.lo, B.hi);
+        if (old) {
+          slip[0] = old[0];
+          slip[1] = old[1];
+          slip[2] = old[2];
+        } else {
+          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
+        }
+        Vec3 s(slip);
+        const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
+        const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
+        ftot += fr.force;
+        espring = fr.energy;
+        // store (also a zero slip: the contact exists)
+        double *hrow = &hnew[(size_t) ao * ncol];
+        const int nslot = (int) hrow[0];
+        if (nslot >= maxcontacts)
+          error->one(FLERR,
+                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
+                     "keyword maxcontacts",
+                     tag[ao], maxcontacts);
+        double *slot = hrow + 1 + 6 * nslot;
+        slot[0] = (double) A.hi;
+        slot[1] = (double) B.lo;
+        slot[2] = (double) B.hi;
+        slot[3] = s.x;
+        slot[4] = s.y;
+        slot[5] = s.z;
+        hrow[0] = nslot + 1;
+      }
+      fa0 += (1.0 - xi) * ftot;
+      fa1 += xi * ftot;
+      fb0 -= (1.0 - t) * ftot;
+      fb1 -= t * ftot;
+    }
+    const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
+    const int nodes[4] = {ao, ia, bo, jb};
+    for (int k = 0; k < 4; k++) {
+      f[nodes[k]][0] += fs[k]->x;
+      f[nodes[k]][1] += fs[k]->y;
+      f[nodes[k]][2] += fs[k]->z;
+      if (fatom_flag) {
+        fcon[3 * nodes[k] + 0] += fs[k]->x;
+        fcon[3 * nodes[k] + 1] += fs[k]->y;
+        fcon[3 * nodes[k] + 2] += fs[k]->z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy + espring;
+    ncontact += 1.0;
+    pensum += c.penetration;
+    penmax = MAX(penmax, c.penetration);
+  };
+
+  // cap contact of segment slot sa of node ao (owned here) with the interior node k
+  auto node_pair = [&](int ao, int sa, int k) {
+    const int ia = segp[2 * ao + sa];
+    const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+    if (kp < 0 || kq < 0)
+      error->one(FLERR,
+                 "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[k], tag[ao], tag[ia]);
+    const int itype = type[ao], ktype = type[k];
+    const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
+    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
+                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
+    if (!c.active) return;
+    const int ids[5] = {ao, ia, kp, k, kq};
+    for (int m = 0; m < 5; m++) {
+      f[ids[m]][0] += c.f[m].x;
+      f[ids[m]][1] += c.f[m].y;
+      f[ids[m]][2] += c.f[m].z;
+      if (fatom_flag) {
+        fcon[3 * ids[m] + 0] += c.f[m].x;
+        fcon[3 * ids[m] + 1] += c.f[m].y;
+        fcon[3 * ids[m] + 2] += c.f[m].z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy;
+    ncap += 1.0;
+    penmax = MAX(penmax, c.penetration);
+  };
+
+  // candidate pairs from a cell list of segment midpoints (local and ghost segments, periodic
+  // images included): two segments can only touch if their midpoints are within
+  // (L_A + L_B)/2 + D (1 + ramp) <= lmax + reach of each other
+  // one entry per segment (owner node, slot) and, folded into the first segment entry of its
+  // node, the node cap of every interior node (nodes owning no segment get an entry of their own)
+  struct Seg {
+    double m[3];
+    double half;
+    tagint tag, ptag;    // key of the segment (owner tag, partner tag)
+    int owner, slot;     // slot -1: no segment, only the node cap
+    int cap;             // 1: the owner is an interior node whose cap this entry carries
+    tagint tp, tq;       // chain neighbours of the owner (for the cap exclusions)
+  };
+  double **cnb = atom->darray[idx_cnb];
+  std::vector<Seg> all;
+  all.reserve(nall);
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (int k = 0; k < nall; k++) {
+    const bool interior = cnb[k][0] != 0.0 && cnb[k][1] != 0.0;
+    bool capdone = false;
+    for (int sl = 0; sl < 2; sl++) {
+      const int p = segp[2 * k + sl];
+      if (p == -1) continue;
+      Seg sg;
+      if (p >= 0) {
+        const double *bx = &segbox[8 * (size_t) k + 4 * sl];
+        sg = {{bx[0], bx[1], bx[2]}, bx[3], tag[k], tag[p], k, sl, 0, 0, 0};
+      } else {    // partner missing: an error if the segment is needed
+        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
+      }
+      if (interior && !capdone) {
+        sg.cap = 1;
+        sg.tp = (tagint) cnb[k][0];
+        sg.tq = (tagint) cnb[k][1];
+        capdone = true;
+      }
+      all.push_back(sg);
+    }
+    if (interior && !capdone)
+      all.push_back({{x[k][0], x[k][1], x[k][2]},
+                     0.0,
+                     tag[k],
+                     0,
+                     k,
+                     -1,
+                     1,
+                     (tagint) cnb[k][0],
+                     (tagint) cnb[k][1]});
+  }
+  for (const Seg &sg : all)
+    for (int d = 0; d < 3; d++) {
+      lo[d] = MIN(lo[d], sg.m[d]);
+      hi[d] = MAX(hi[d], sg.m[d]);
+    }
+  const double R = lmax_used + reach_max;
+  if (!all.empty()) {
+    double bsize = 0.5 * R;
+    int nb[3];
+    for (;;) {
+      double total = 1.0;
+      for (int d = 0; d < 3; d++) {
+        nb[d] = (int) ((hi[d] - lo[d]) / bsize) + 1;
+        total *= nb[d];
+      }
+      if (total <= 8.0 * all.size() + 1000.0) break;
+      bsize *= 1.5;
+    }
+    const int reachb = (int) std::ceil(R / bsize);
+    auto binof = [&](const double *m) {
+      int c[3];
+      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bsize));
+      return (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+    };
+    const int nbins = nb[0] * nb[1] * nb[2];
+    std::vector<int> start(nbins + 1, 0);
+    std::vector<int> bin(all.size());
+    for (size_t n = 0; n < all.size(); n++) start[(bin[n] = binof(all[n].m)) + 1]++;
+    for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
+    std::vector<Seg> sorted(all.size());
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
+    }
+    // stencil of bin offsets whose nearest points are within R
+    std::vector<std::array<int, 3>> stencil;
+    for (int k = -reachb; k <= reachb; k++)
+      for (int j = -reachb; j <= reachb; j++)
+        for (int i = -reachb; i <= reachb; i++) {
+          const double gx = MAX(std::abs(i) - 1, 0), gy = MAX(std::abs(j) - 1, 0),
+                       gz = MAX(std::abs(k) - 1, 0);
+          if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
+        }
+    for (const Seg &sa : sorted) {
+      if (sa.owner >= nlocal || sa.slot < 0) continue;
+      const int ao = sa.owner;
+      const tagint ta = sa.tag, tpa = sa.ptag;
+      int c[3];
+      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((sa.m[d] - lo[d]) / bsize));
+      for (const auto &o : stencil) {
+        const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
+        if (cx < 0 || cy < 0 || cz < 0 || cx >= nb[0] || cy >= nb[1] || cz >= nb[2]) continue;
+        const int q = (cz * nb[1] + cy) * nb[0] + cx;
+        for (int n = start[q]; n < start[q + 1]; n++) {
+          const Seg &sb = sorted[n];
+          // a superset of both tests below: the owner node is an end of the segment
+          const double ex = sa.m[0] - sb.m[0], ey = sa.m[1] - sb.m[1], ez = sa.m[2] - sb.m[2];
+          const double lim = sa.half + sb.half + reach_max;
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
+            segment_pair(ao, sa.slot, sb.owner, sb.slot);
+          if (!sb.cap) continue;
+          // node cap of the owner of entry sb: interior nodes of other chains (or far along
+          // this one) near segment A
+          if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
+              sb.tq == tpa)
+            continue;
+          const double *xn = x[sb.owner];
+          const double *a0 = x[ao], *a1 = x[segp[2 * ao + sa.slot]];
+          const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+          const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
+          const double uu = ux * ux + uy * uy + uz * uz;
+          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[sb.owner]]);
+          // the cap acts only where A comes within D of the node
+          if (px * px + py * py + pz * pz >= dcap * dcap) continue;
+          node_pair(ao, sa.slot, sb.owner);
+        }
+      }
+    }
+  }
+
+  // the new history replaces the old one
+  if (use_history) {
+    double **hist = atom->darray[idx_hist];
+    for (int i = 0; i < nlocal; i++)
+      memcpy(hist[i], &hnew[(size_t) i * ncol],
+             sizeof(double) * (1 + 6 * (int) hnew[(size_t) i * ncol]));
+  }
+
+  if (fatom_flag) {
+    comm_mode = COMM_FORCE;
+    comm->reverse_comm(this);
+    double *fc = atom->dvector[idx_fc];
+    for (int i = 0; i < nlocal; i++)
+      fc[i] = std::sqrt(fcon[3 * i] * fcon[3 * i] + fcon[3 * i + 1] * fcon[3 * i + 1] +
+                        fcon[3 * i + 2] * fcon[3 * i + 2]);
+  }
+
+  if (eflag_global) {
+    // compute pair sums pvector over the ranks: the maximum is reduced here and put on rank 0
+    double all;
+    MPI_Allreduce(&penmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+    pvector[0] = ncontact;
+    pvector[1] = pensum;
+    pvector[2] = (comm->me == 0) ? all : 0.0;
+    pvector[3] = ncap;
+  }
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
+                                      int * /*pbc*/)
+{
+  // variable length: per atom the number of contacts, then 6 values per contact
+  double **hist = atom->darray[idx_hist];
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const double *row = hist[list[k]];
+    const int len = 1 + 6 * (int) row[0];
+    memcpy(buf + m, row, sizeof(double) * len);
+    m += len;
+  }
+  return m;
+}
+
+void PairNCFContact::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **hist = atom->darray[idx_hist];
+  int m = 0;
+  for (int k = first; k < first + n; k++) {
+    const int len = 1 + 6 * (int) buf[m];
+    memcpy(hist[k], buf + m, sizeof(double) * len);
+    m += len;
+  }
+}
+
+int PairNCFContact::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int k = first; k < first + n; k++) {
+    buf[m++] = fcon[3 * k];
+    buf[m++] = fcon[3 * k + 1];
+    buf[m++] = fcon[3 * k + 2];
+  }
+  return m;
+}
+
+void PairNCFContact::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list[k];
+    fcon[3 * j] += buf[m++];
+    fcon[3 * j + 1] += buf[m++];
+    fcon[3 * j + 2] += buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairNCFContact::write_restart_settings(FILE *fp)
+{
+  fwrite(&ramp_frac, sizeof(double), 1, fp);
+  fwrite(&lmax_user, sizeof(double), 1, fp);
+  fwrite(&maxcontacts, sizeof(int), 1, fp);
+  fwrite(&fatom_flag, sizeof(int), 1, fp);
+  fwrite(&dtcheck, sizeof(int), 1, fp);
+}
+
+void PairNCFContact::read_restart_settings(FILE *fp)
+{
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &ramp_frac, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &lmax_user, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &maxcontacts, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &fatom_flag, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &dtcheck, sizeof(int), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&ramp_frac, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&lmax_user, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
+  MPI_Bcast(&fatom_flag, 1, MPI_INT, 0, world);
+  MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
+  ncol = 1 + 6 * maxcontacts;
+}
+
+void PairNCFContact::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  const int n = atom->ntypes;
+  for (int i = 1; i <= n; i++) {
+    fwrite(&diamset[i], sizeof(int), 1, fp);
+    fwrite(&diameter[i], sizeof(double), 1, fp);
+    for (int j = i; j <= n; j++) {
+      fwrite(&given[i][j], sizeof(int), 1, fp);
+      if (given[i][j]) {
+        fwrite(&kn[i][j], sizeof(double), 1, fp);
+        fwrite(&ktr[i][j], sizeof(double), 1, fp);
+        fwrite(&mu[i][j], sizeof(double), 1, fp);
+        fwrite(&damp[i][j], sizeof(double), 1, fp);
+      }
+    }
+  }
+}
+
+void PairNCFContact::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  const int n = atom->ntypes;
+  const int me = comm->me;
+  for (int i = 1; i <= n; i++) {
+    if (me == 0) {
+      utils::sfread(FLERR, &diamset[i], sizeof(int), 1, fp, nullptr, error);
+      utils::sfread(FLERR, &diameter[i], sizeof(double), 1, fp, nullptr, error);
+    }
+    MPI_Bcast(&diamset[i], 1, MPI_INT, 0, world);
+    MPI_Bcast(&diameter[i], 1, MPI_DOUBLE, 0, world);
+    for (int j = i; j <= n; j++) {
+      if (me == 0) utils::sfread(FLERR, &given[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&given[i][j], 1, MPI_INT, 0, world);
+      if (given[i][j]) {
+        double buf[4];
+        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), 4, fp, nullptr, error);
+        MPI_Bcast(buf, 4, MPI_DOUBLE, 0, world);
+        kn[i][j] = buf[0];
+        ktr[i][j] = buf[1];
+        mu[i][j] = buf[2];
+        damp[i][j] = buf[3];
+        setflag[i][j] = 1;
+      }
+    }
+  }
+}
+
+void *PairNCFContact::extract(const char *str, int &dim)
+{
+  dim = 2;
+  if (strcmp(str, "kn") == 0) return (void *) kn;
+  if (strcmp(str, "mu") == 0) return (void *) mu;
+  if (strcmp(str, "damp") == 0) return (void *) damp;
+  dim = 1;
+  if (strcmp(str, "diameter") == 0) return (void *) diameter.data();
+  return nullptr;
+}

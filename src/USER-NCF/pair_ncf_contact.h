@@ -1,0 +1,97 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
+   pair_style ncf/contact: cylinder-cylinder (segment-segment) contact between chain segments,
+   penalty normal force and Coulomb friction with a per-contact slip history. Contact law in
+   ncf_contact.h (engine-free); see doc/pair_ncf_contact.md.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(ncf/contact,PairNCFContact);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_NCF_CONTACT_H
+#define LMP_PAIR_NCF_CONTACT_H
+
+#include "pair.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairNCFContact : public Pair {
+ public:
+  // IDs of the fix property/atom stores created by the style
+  static constexpr const char *TOPO_ID = "NCF_CONTACT_TOPO";    // chain neighbours (ghost yes)
+  static constexpr const char *HIST_ID = "NCF_CONTACT_HIST";    // friction history (mu > 0)
+  static constexpr const char *FORCE_ID = "NCF_CONTACT_F";      // per-atom |contact force|
+
+  PairNCFContact(class LAMMPS *);
+  ~PairNCFContact() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  void *extract(const char *, int &) override;
+
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+
+  // longest segment the neighbour and ghost cutoffs were sized for (after init)
+  double max_segment_length() const { return lmax_used; }
+  bool friction_active() const { return use_history; }
+  double critical_timestep() const { return dt_critical; }
+
+ protected:
+  // settings
+  double ramp_frac;      // ramp half-width as a fraction of the contact distance
+  double lmax_user;      // longest segment given by the user (0 = from the data at init)
+  int maxcontacts;       // history slots per node
+  int fatom_flag;        // store per-atom contact force magnitude
+  int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
+  double dt_critical;    // critical time step of the contacts (estimated at init)
+
+  // per type pair (index 0 unused); diameter per type
+  double **kn, **ktr, **mu, **damp, **cut, **reachf;
+  int **given;    // 1 if set by pair_coeff (not mixed)
+  std::vector<double> diameter;
+  std::vector<int> diamset;
+
+  // derived at init
+  double lmax_used;
+  double reach_max;     // largest D (1 + ramp) over the type pairs
+  bool use_history;     // any mu > 0: history stored and communicated
+  bool use_velocity;    // friction or damping: ghost velocities needed
+  int idx_cnb, idx_hist, idx_fc;
+  int ncol;    // columns of the history array: 1 + 6 * maxcontacts
+  int comm_mode;
+
+  // per-step work arrays
+  std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<double> segbox;    // per local+ghost atom, 2 slots: centre and half length
+  std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
+  std::vector<double> hnew;      // new history rows of owned atoms
+  std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
+
+  void allocate();
+  void create_stores();
+  void fill_topology();
+  void find_lmax();
+  void set_segments();
+  const double *find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const;
+  bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const;
+  void other_partner(tagint node, tagint not_this, tagint &out) const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

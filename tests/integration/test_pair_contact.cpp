@@ -1,0 +1,592 @@
+// Integration tests of pair_style ncf/contact through LAMMPS (plugin auto-loaded): balance and
+// outputs, exactly-once counting across periodic boundaries, parallel contact independent of the
+// mesh, friction at mu F_n while sliding over many nodes, Coulomb stick/slide, frictionless
+// energy conservation, dissipation and momentum with friction, restart with history, no
+// pass-through under a fast press, mu = 0 without history, error messages.
+
+#include "ncf_lammps_test.h"
+#include "test_pair_contact_scene.h"
+
+#include "atom.h"
+#include "force.h"
+#include "lammps.h"
+#include "modify.h"
+#include "pair.h"
+
+#include "ncf_contact.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace ncftest;
+using namespace contactscene;
+using ::testing::HasSubstr;
+
+namespace {
+
+const double KN = 1e8;
+const double MESH = 1e-4;
+const double NODE_MASS = RHO_A * MESH;
+
+std::string setup(const std::string &data, const std::string &boundary = "f f f",
+                  const std::string &coeff = "pair_coeff * * kn 1e8 diameter 69e-6",
+                  const std::string &style = "pair_style ncf/contact")
+{
+  return "units si\natom_style bond\natom_modify map array sort 0 0\nboundary " + boundary +
+      "\nbond_style ncf/chain\nread_data " + data +
+      "\nbond_coeff 1 modulus 120e9 diameter 69e-6\n" + style + "\n" + coeff +
+      "\ncomm_modify vel yes\ntimestep 1e-9\nneighbor 2e-5 bin\nneigh_modify every 1 delay 0 check "
+      "yes\n"
+      "compute pc all pair ncf/contact\nthermo_style custom step pe ke evdwl c_pc[1] c_pc[2] "
+      "c_pc[3]\n";
+}
+
+std::vector<Chain> crossed(double gap, std::array<double, 3> shift = {0, 0, 0})
+{
+  const double h = 5 * MESH;
+  auto a = straight({-h + shift[0], shift[1], shift[2]}, {h + shift[0], shift[1], shift[2]}, 10);
+  auto b = straight({0.013e-3 + shift[0], -h + shift[1], gap + shift[2]},
+                    {0.013e-3 + shift[0], h + shift[1], gap + shift[2]}, 10);
+  return {a, b};
+}
+
+double sum_over(const std::vector<double> &v, int first, int last, int dim)
+{
+  double s = 0.0;
+  for (int i = first; i <= last; i++) s += v[3 * (i - 1) + dim];
+  return s;
+}
+
+}    // namespace
+
+TEST(PairContact, CrossedChainsBalanceAndOutputs)
+{
+  auto dir = scratch_dir("contact_crossed");
+  const double gap = 0.9 * DIAM;
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/c.data", crossed(gap), Box(), NODE_MASS)));
+  l.cmd("run 0");
+  auto f = l.forces();
+  // chain 1 = atoms 1..11 pushed down, chain 2 = 12..22 pushed up, equal and opposite
+  const double fz1 = sum_over(f, 1, 11, 2), fz2 = sum_over(f, 12, 22, 2);
+  EXPECT_LT(fz1, 0.0);
+  EXPECT_NEAR(fz1, -fz2, 1e-12 * std::fabs(fz1));
+  for (int d = 0; d < 2; d++) EXPECT_NEAR(sum_over(f, 1, 11, d), 0.0, 1e-9 * std::fabs(fz1));
+  EXPECT_GT(l.value("evdwl"), 0.0);
+  // the crossing sits on a node of chain 1: two segments of each chain touch -> 4 pairs
+  EXPECT_EQ(l.value("c_pc[1]"), 4.0);
+  EXPECT_NEAR(l.value("c_pc[3]"), DIAM - gap, 1e-12);
+  const double dx = 0.013e-3;    // chain 2 runs 13 um beside the node of chain 1
+  EXPECT_NEAR(l.value("c_pc[2]"), 2 * (DIAM - gap) + 2 * (DIAM - std::sqrt(gap * gap + dx * dx)),
+              1e-12);
+}
+
+TEST(PairContact, EnergyGradientThroughLammps)
+{
+  auto dir = scratch_dir("contact_fd");
+  Lammps l;
+  auto chains = crossed(0.85 * DIAM);
+  chains[1].x[5][2] -= 3e-6;    // kink the upper chain near the crossing
+  chains[1].x[6][0] += 2e-5;
+  l.cmds(setup(write_data(dir + "/c.data", chains, Box(), NODE_MASS)));
+  l.cmd("run 0");
+  auto f = l.forces();
+  auto x0 = l.positions();
+  const double h = 1e-10;
+  double fmax = 0.0;
+  for (double v : f) fmax = std::max(fmax, std::fabs(v));
+  for (int id : {5, 6, 7, 16, 17, 18}) {
+    for (int d = 0; d < 3; d++) {
+      const double xi = x0[3 * (id - 1) + d];
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi + h));
+      l.cmd("run 0");
+      const double ep = l.value("pe");
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi - h));
+      l.cmd("run 0");
+      const double em = l.value("pe");
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi));
+      EXPECT_NEAR(f[3 * (id - 1) + d], -(ep - em) / (2 * h), 1e-5 * fmax) << id << " " << d;
+    }
+  }
+}
+
+TEST(PairContact, SameForcesAcrossPeriodicBoundary)
+{
+  // the crossing scene in the middle of a periodic box and shifted so that the crossing and
+  // both chains straddle the periodic faces: the same forces, counted once
+  auto dir = scratch_dir("contact_pbc");
+  Box box;
+  for (int d = 0; d < 3; d++) box.lo[d] = -1.5e-3, box.hi[d] = 1.5e-3;
+  std::vector<double> ref;
+  double nref = 0.0;
+  for (int k = 0; k < 2; k++) {
+    const std::array<double, 3> shift = k == 0
+        ? std::array<double, 3>{0, 0, 0}
+        : std::array<double, 3>{1.5e-3, 1.5e-3, 1.5e-3 - 3e-5};
+    Lammps l;
+    l.cmds(setup(write_data(dir + "/c" + std::to_string(k) + ".data", crossed(0.9 * DIAM, shift),
+                            box, NODE_MASS),
+                 "p p p"));
+    l.cmd("run 0");
+    auto f = l.forces();
+    if (k == 0) {
+      ref = f;
+      nref = l.value("c_pc[1]");
+      EXPECT_EQ(nref, 4.0);
+    } else {
+      EXPECT_EQ(l.value("c_pc[1]"), nref);
+      double fmax = 0.0;
+      for (double v : ref) fmax = std::max(fmax, std::fabs(v));
+      EXPECT_LT(max_abs_diff(f, ref), 1e-9 * fmax);
+    }
+  }
+}
+
+TEST(PairContact, ParallelContactSameForMeshes)
+{
+  // chain 2 lies on chain 1 over 1 mm: the contact force is kn h (gap/D) l for mesh 0.2, 0.1,
+  // 0.05 mm (within 2 %), and the force on chain 2 is a pure normal force (no torque)
+  auto dir = scratch_dir("contact_parallel");
+  const double gap = 0.97 * DIAM, l = 1.0e-3;
+  const double hpen = (DIAM * DIAM - gap * gap) / (2 * DIAM);
+  const double expect = KN * hpen * gap / DIAM * l;
+  for (double mesh : {0.2e-3, 0.1e-3, 0.05e-3}) {
+    std::vector<Chain> chains = {
+        straight({-1.5e-3, 0, 0}, {1.5e-3, 0, 0}, (int) std::lround(3e-3 / mesh)),
+        straight({-0.5e-3 + 0.0137e-3, 0, gap}, {0.5e-3 + 0.0137e-3, 0, gap},
+                 (int) std::lround(l / mesh))};
+    Box box;
+    box.lo[0] = -2e-3;
+    box.hi[0] = 2e-3;
+    Lammps lmp;
+    lmp.cmds(setup(write_data(dir + "/p.data", chains, box, RHO_A * mesh)));
+    lmp.cmd("run 0");
+    auto f = lmp.forces();
+    const int n1 = (int) chains[0].x.size(), n2 = (int) chains[1].x.size();
+    const double fz = sum_over(f, n1 + 1, n1 + n2, 2);
+    EXPECT_NEAR(fz, expect, 0.02 * expect) << "mesh " << mesh;
+    // moment about the centre of chain 2 (y component: tilting)
+    auto x = lmp.positions();
+    double my = 0.0, cx = 0.0137e-3;
+    for (int i = n1 + 1; i <= n1 + n2; i++) my += (x[3 * (i - 1)] - cx) * f[3 * (i - 1) + 2];
+    EXPECT_LT(std::fabs(my), 1e-6 * expect * l) << "mesh " << mesh;
+  }
+}
+
+namespace {
+// a short chain (one segment across, or two along x) pressed with load `load` on a long fixed chain
+// along x (mesh 0.05 mm: many element boundaries), dragged along x at speed v; returns the
+// ratios |F_x| / F_z measured on the fixed chain every `every` steps once sliding
+std::vector<double> slide_ratios(const std::string &dir, bool parallel, double mu, int nsteps,
+                                 int every)
+{
+  const double mesh = 0.05e-3, heavy = 100.0;    // node masses x100 (mass scaling)
+  std::vector<Chain> chains = {straight({-1.2e-3, 0, 0}, {1.2e-3, 0, 0}, 48)};
+  const double z = 0.95 * DIAM;
+  if (parallel)
+    chains.push_back(straight({-0.9e-3 + 0.0111e-3, 0, z}, {-0.7e-3 + 0.0111e-3, 0, z}, 2));
+  else
+    chains.push_back(straight({-0.8e-3, -1e-4, z}, {-0.8e-3, 1e-4, z}, 1));    // one segment: a
+                                                                               // chain of several
+                                                                               // would drape over B
+  Box box;
+  box.lo[0] = -1.5e-3;
+  box.hi[0] = 1.5e-3;
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/s.data", chains, box, heavy * RHO_A * mesh), "f f f",
+               fmt::format("pair_coeff * * kn 1e8 mu {} kt 1.0 diameter 69e-6", mu)));
+  l.cmds(R"(
+group fixed molecule 1
+group slider molecule 2
+fix load slider addforce 0.0 0.0 -0.02
+fix drag slider move linear 2.0 NULL NULL
+fix damp slider viscous 1e-6
+compute fb fixed reduce sum fx fy fz
+timestep 1e-8
+thermo 0
+)");
+  l.cmd("run 2000");    // settle and start sliding
+  std::vector<double> ratios;
+  for (int k = 0; k < nsteps / every; k++) {
+    l.cmd(fmt::format("run {} pre no post no", every));
+    // friction along the fixed chain (x), normal force perpendicular to it (y, z)
+    const double fx = l.value("c_fb[1]"), fy = l.value("c_fb[2]"), fz = l.value("c_fb[3]");
+    ratios.push_back(std::fabs(fx) / std::sqrt(fy * fy + fz * fz));
+  }
+  return ratios;
+}
+}    // namespace
+
+TEST(PairContact, SlidingFrictionStaysAtMuFnOverManyNodes)
+{
+  // 10000 steps at 2 m/s and dt 1e-8: 0.2 mm, across 4 elements of the fixed chain, sampled
+  // every 20 steps (several samples per element, at and between nodes)
+  auto dir = scratch_dir("contact_slide");
+  const double mu = 0.3;
+  for (bool parallel : {false, true}) {
+    auto r = slide_ratios(dir, parallel, mu, 10000, 20);
+    double lo = 1e9, hi = 0.0;
+    for (double v : r) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    EXPECT_GT(lo, 0.98 * mu) << (parallel ? "parallel" : "crossing") << " dip";
+    EXPECT_LT(hi, 1.02 * mu) << (parallel ? "parallel" : "crossing") << " spike";
+  }
+}
+
+TEST(PairContact, CoulombStickBelowAndSlideAtMuFn)
+{
+  auto dir = scratch_dir("contact_coulomb");
+  const double mu = 0.3, load = 0.02;
+  auto moved = [&](double pull) {
+    std::vector<Chain> chains = {
+        straight({-1e-3, 0, 0}, {1e-3, 0, 0}, 20),
+        straight({0.0123e-3, -1e-4, 0.95 * DIAM}, {0.0123e-3, 1e-4, 0.95 * DIAM}, 1)};
+    Lammps l;
+    l.cmds(setup(write_data(dir + "/k.data", chains, Box(), 100 * NODE_MASS), "f f f",
+                 "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6"));
+    l.cmds(fmt::format(R"(
+group slider molecule 2
+fix nve slider nve
+fix load slider addforce {} 0.0 {}
+fix damp slider viscous 5e-3
+variable dx equal xcm(slider,x)
+timestep 1e-8
+thermo 0
+)",
+                       pull / 2.0, -load / 2.0));
+    l.cmd("run 4000");
+    const double x1 = l.value("v_dx");
+    l.cmd("run 6000");
+    return l.value("v_dx") - x1;
+  };
+  const double stick = moved(0.8 * mu * load), slide = moved(1.5 * mu * load);
+  EXPECT_LT(std::fabs(stick), 1e-7) << "sticks below mu F_n";
+  EXPECT_GT(slide, 1e-5) << "slides above mu F_n";
+}
+
+namespace {
+// four chains in two crossing pairs flying into each other; all free, no fixes but nve
+std::vector<Chain> collision_scene()
+{
+  return {straight({-4e-4, 0, 0}, {4e-4, 0, 0}, 8),
+          straight({0.05e-3, -4e-4, 1.05 * DIAM}, {0.05e-3, 4e-4, 1.05 * DIAM}, 8),
+          straight({-4e-4, 0.2e-3, 2.1 * DIAM}, {4e-4, 0.3e-3, 2.1 * DIAM}, 8),
+          straight({-0.1e-3, -4e-4, 3.15 * DIAM}, {0.1e-3, 4e-4, 3.15 * DIAM}, 8)};
+}
+}    // namespace
+
+TEST(PairContact, FrictionlessNveConservesEnergy)
+{
+  auto dir = scratch_dir("contact_nve");
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/n.data", collision_scene(), Box(), NODE_MASS)));
+  l.cmds(R"(
+velocity all set 0 0 0
+group c1 molecule 1 3
+group c2 molecule 2 4
+velocity c1 set 0.0 0.0 0.5
+velocity c2 set 0.0 0.0 -0.5
+fix nve all nve
+variable etot equal pe+ke
+timestep 2e-9
+thermo 0
+)");
+  l.cmd("run 0");
+  const double e0 = l.value("v_etot");
+  double worst = 0.0, maxcontacts = 0.0;
+  for (int k = 0; k < 100; k++) {
+    l.cmd("run 100 pre no post no");
+    worst = std::max(worst, std::fabs(l.value("v_etot") - e0) / e0);
+    maxcontacts = std::max(maxcontacts, l.value("c_pc[1]"));
+  }
+  EXPECT_GE(maxcontacts, 2.0) << "the chains must actually collide";
+  EXPECT_LT(worst, 1e-5);
+  printf("[ pair ncf/contact ] frictionless NVE, 1e4 steps: max |E - E0| / E0 = %.3g, up to %g "
+         "contacts\n",
+         worst, maxcontacts);
+}
+
+TEST(PairContact, FrictionDissipatesAndConservesMomentum)
+{
+  auto dir = scratch_dir("contact_dissipation");
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/d.data", collision_scene(), Box(), NODE_MASS), "f f f",
+               "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6"));
+  l.cmds(R"(
+group c1 molecule 1 3
+group c2 molecule 2 4
+velocity c1 set 0.3 0.0 0.5
+velocity c2 set -0.2 0.1 -0.5
+fix nve all nve
+variable etot equal pe+ke
+variable px equal vcm(all,x)*mass(all)
+variable py equal vcm(all,y)*mass(all)
+variable pz equal vcm(all,z)*mass(all)
+timestep 2e-9
+thermo 0
+)");
+  l.cmd("run 0");
+  const double e0 = l.value("v_etot");
+  const double p0[3] = {l.value("v_px"), l.value("v_py"), l.value("v_pz")};
+  const double pscale = l.value("mass(all)") * 0.5;
+  double prev_diss = 0.0, min_step = 0.0, total = 0.0;
+  for (int k = 0; k < 100; k++) {
+    l.cmd("run 100 pre no post no");
+    const double diss = e0 - l.value("v_etot");
+    min_step = std::min(min_step, diss - prev_diss);
+    prev_diss = diss;
+    total = diss;
+    EXPECT_GE(diss, -1e-6 * e0) << "dissipated energy negative at block " << k;
+    EXPECT_NEAR(l.value("v_px"), p0[0], 1e-12 * pscale);
+    EXPECT_NEAR(l.value("v_py"), p0[1], 1e-12 * pscale);
+    EXPECT_NEAR(l.value("v_pz"), p0[2], 1e-12 * pscale);
+  }
+  EXPECT_GT(total, 1e-3 * e0) << "friction must dissipate something in this scene";
+  printf("[ pair ncf/contact ] friction: dissipated %.3g of E0, smallest step of dissipation %.3g "
+         "E0\n",
+         total / e0, min_step / e0);
+  EXPECT_GE(min_step, -1e-6 * e0);
+}
+
+TEST(PairContact, RestartKeepsFrictionHistory)
+{
+  auto dir = scratch_dir("contact_restart");
+  Box box;
+  box.lo[0] = box.lo[1] = 0.0;
+  box.hi[0] = box.hi[1] = 1.2e-3;
+  const std::string data =
+      write_data(dir + "/r.data", random_mat(12, 12, 1.2e-3, 1e-4, 0.9 * DIAM, 5), box, NODE_MASS);
+  const std::string coeff = "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6";
+  const char *fixes = R"(
+fix nve all nve
+fix visc all viscous 1e-7
+timestep 5e-9
+thermo 0
+)";
+  std::vector<double> ref;
+  {
+    Lammps l;
+    l.cmds(setup(data, "p p f", coeff));
+    l.cmd("velocity all create 1e12 4 mom yes rot no dist gaussian");    // ~m/s at these masses
+    l.cmds(fixes);
+    l.cmd("run 500");
+    l.cmd("write_restart " + dir + "/mid.restart");
+    l.cmd("run 500");
+    ref = l.positions();
+    EXPECT_GT(l.value("c_pc[1]"), 0.0) << "the history must matter: contacts at the restart";
+  }
+  auto resumed = [&](bool drop_history) {
+    Lammps l;
+    l.cmd("read_restart " + dir + "/mid.restart");
+    l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
+    l.cmd("comm_modify vel yes");
+    l.cmd("neighbor 2e-5 bin");
+    l.cmd("neigh_modify every 1 delay 0 check yes");
+    l.cmd("compute pc all pair ncf/contact");
+    if (drop_history) {    // negative control: the test must see a lost history
+      l.cmd("run 0");
+      l.cmd("set group all d2_ncf_chist[1] 0");
+    }
+    l.cmds(fixes);
+    l.cmd("run 500");
+    return l.positions();
+  };
+  double scale = 0.0;
+  for (double v : ref) scale = std::max(scale, std::fabs(v));
+  EXPECT_LT(max_abs_diff(resumed(false), ref), 1e-10 * scale);
+  EXPECT_GT(max_abs_diff(resumed(true), ref), 1e-9 * scale);
+}
+
+namespace {
+// Pass-through checker: for every pair of segments of different chains, the side of B on which
+// A lies (sign of the common-normal offset, for crossing segments whose closest points are
+// interior) must not flip between two checks, and the axes must never come closer than `dmin`.
+struct PassThroughChecker {
+  std::vector<int> chain_of;                // per node (0-based), chain index
+  std::vector<std::pair<int, int>> segs;    // node indices of each segment
+  std::vector<signed char> side;            // per segment pair, last sign (0 unknown)
+  int flips = 0;
+  double closest = 1e300;
+  explicit PassThroughChecker(const std::vector<Chain> &chains)
+  {
+    int id = 0;
+    for (size_t c = 0; c < chains.size(); c++) {
+      for (size_t k = 0; k < chains[c].x.size(); k++) {
+        chain_of.push_back((int) c);
+        if (k + 1 < chains[c].x.size()) segs.push_back({id + (int) k, id + (int) k + 1});
+      }
+      id += (int) chains[c].x.size();
+    }
+    side.assign(segs.size() * segs.size(), 0);
+  }
+  void check(const std::vector<double> &x)
+  {
+    auto P = [&](int n) {
+      return NCF::Vec3(&x[3 * n]);
+    };
+    for (size_t a = 0; a < segs.size(); a++)
+      for (size_t b = a + 1; b < segs.size(); b++) {
+        if (chain_of[segs[a].first] == chain_of[segs[b].first]) continue;
+        const NCF::Vec3 a0 = P(segs[a].first), a1 = P(segs[a].second);
+        const NCF::Vec3 b0 = P(segs[b].first), b1 = P(segs[b].second);
+        if (NCF::norm2(0.5 * (a0 + a1 - b0 - b1)) > 4 * 1e-4 * 1e-4) continue;
+        auto cp = NCF::closest_points_segments(a0, a1, b0, b1);
+        const double d = std::sqrt(cp.dist2);
+        closest = std::min(closest, d);
+        const NCF::Vec3 nrm = NCF::cross(a1 - a0, b1 - b0);
+        signed char &s = side[a * segs.size() + b];
+        const bool interior = cp.s > 0.0 && cp.s < 1.0 && cp.t > 0.0 && cp.t < 1.0;
+        if (!interior || NCF::norm(nrm) < 0.1 * NCF::norm(a1 - a0) * NCF::norm(b1 - b0)) {
+          s = 0;
+          continue;
+        }
+        const signed char now =
+            NCF::dot(NCF::lerp(a0, a1, cp.s) - NCF::lerp(b0, b1, cp.t), nrm) > 0 ? 1 : -1;
+        if (s != 0 && now != s) flips++;
+        s = now;
+      }
+  }
+};
+}    // namespace
+
+namespace {
+// 4 layers of 6 chains (0.8 mm, mesh 0.1 mm, 1.3 D apart) pressed by a wall at `speed` until
+// the top layer is 3 D above the bottom one, then held; returns the checker after 3000 steps
+PassThroughChecker press(const std::string &dir, double kn, double speed, double &maxpen,
+                         double &maxcontacts)
+{
+  const double side = 1.0e-3, dz = 1.3 * DIAM;
+  auto chains = layered_mat(4, 6, side, 1e-4, dz, 23);
+  Box box;
+  box.lo[0] = box.lo[1] = 0.0;
+  box.hi[0] = box.hi[1] = side;
+  box.lo[2] = -0.5 * DIAM;
+  box.hi[2] = 4 * dz;
+  const double travel = box.hi[2] - 0.5 * DIAM - 3.0 * DIAM;
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/m.data", chains, box, NODE_MASS), "p p f",
+               fmt::format("pair_coeff * * kn {} mu 0.3 kt 1.0 diameter 69e-6", kn)));
+  l.cmd(fmt::format("variable ztop equal \"zhi - {0}*time*({0}*time<{1}) - {1}*({0}*time>={1})\"",
+                    speed, travel));
+  l.cmds(R"(
+fix wtop all wall/harmonic zhi v_ztop 1e4 0.0 3.45e-5
+fix wbot all wall/harmonic zlo EDGE 1e4 0.0 3.45e-5
+fix nve all nve
+fix visc all viscous 2e-5
+timestep 5e-9
+thermo 0
+)");
+  PassThroughChecker checker(chains);
+  l.cmd("run 0");
+  checker.check(l.positions());
+  maxpen = maxcontacts = 0.0;
+  for (int k = 0; k < 600; k++) {
+    l.cmd("run 5 pre no post no");
+    checker.check(l.positions());
+    maxpen = std::max(maxpen, l.value("c_pc[3]"));
+    maxcontacts = std::max(maxcontacts, l.value("c_pc[1]"));
+  }
+  return checker;
+}
+}    // namespace
+
+TEST(PairContact, NoPassThroughInAFastPress)
+{
+  // wall at 20 m/s, dt 5e-9 s, kn 1e10 Pa: 0.0014 D per step, inside the documented bound (v dt <= 0.05 D,
+  // kinetic energy of a chain below the crossing barrier (2/15) kn D^3)
+  auto dir = scratch_dir("contact_press");
+  double maxpen, maxcontacts;
+  auto checker = press(dir, 1e10, 20.0, maxpen, maxcontacts);
+  EXPECT_GT(maxcontacts, 20.0);
+  EXPECT_EQ(checker.flips, 0) << "a chain passed through another";
+  // chains without bending stiffness fold at their nodes under the press; the node caps cover the
+  // convex side of such kinks (without them penetrations reached 0.7 D here)
+  EXPECT_GT(checker.closest, 0.5 * DIAM) << "axes came closer than half a diameter";
+  printf(
+      "[ pair ncf/contact ] press: max penetration %.3g D, closest axes %.3g D, %g contacts max\n",
+      maxpen / DIAM, checker.closest / DIAM, maxcontacts);
+  // negative control: the checker sees chains pass through each other with a far too soft
+  // contact (kn 1e3 Pa)
+  auto soft = press(dir, 1e3, 20.0, maxpen, maxcontacts);
+  EXPECT_GT(soft.flips, 0) << "the checker must detect a pass-through";
+}
+
+TEST(PairContact, NoHistoryWithoutFriction)
+{
+  auto dir = scratch_dir("contact_nohist");
+  for (double mu : {0.0, 0.3}) {
+    Lammps l;
+    l.cmds(setup(write_data(dir + "/h.data", crossed(0.9 * DIAM), Box(), NODE_MASS), "f f f",
+                 fmt::format("pair_coeff * * kn 1e8 mu {} diameter 69e-6", mu)));
+    l.cmd("run 0");
+    const bool has = l.lmp->modify->get_fix_by_id("NCF_CONTACT_HIST") != nullptr;
+    EXPECT_EQ(has, mu > 0.0);
+    EXPECT_EQ(l.lmp->force->pair->comm_forward > 0, mu > 0.0);
+  }
+}
+
+TEST(PairContact, PerAtomContactForceForDumps)
+{
+  auto dir = scratch_dir("contact_fatom");
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/a.data", crossed(0.9 * DIAM), Box(), NODE_MASS), "f f f",
+               "pair_coeff * * kn 1e8 diameter 69e-6", "pair_style ncf/contact fatom yes"));
+  l.cmd("run 0");
+  l.cmd("variable fc atom d_ncf_fcontact");
+  l.cmd("compute fsum all reduce sum v_fc");
+  auto f = l.forces();
+  double expect = 0.0;
+  for (size_t i = 0; i < f.size(); i += 3)
+    expect += std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]);
+  l.cmd("run 0");
+  EXPECT_NEAR(l.value("c_fsum"), expect, 1e-12 * expect);
+  EXPECT_GT(expect, 0.0);
+}
+
+TEST(PairContact, ErrorsNameStyleKeywordAndValue)
+{
+  auto dir = scratch_dir("contact_errors");
+  const std::string data = write_data(dir + "/e.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  auto err = [&](const std::string &style, const std::string &coeff,
+                 const std::string &extra = "") {
+    return error_of([&] {
+      Lammps l;
+      l.cmds(setup(data, "f f f", coeff, style));
+      if (!extra.empty()) l.cmds(extra);
+      l.cmd("run 0");
+    });
+  };
+  EXPECT_THAT(err("pair_style ncf/contact ramp 2", "pair_coeff * * kn 1e8 diameter 69e-6"),
+              HasSubstr("ramp 2"));
+  EXPECT_THAT(err("pair_style ncf/contact bogus 1", "pair_coeff * * kn 1e8 diameter 69e-6"),
+              HasSubstr("unknown keyword bogus"));
+  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn -1 diameter 69e-6"),
+              HasSubstr("kn -1"));
+  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 mu -0.1 diameter 69e-6"),
+              HasSubstr("mu -0.1"));
+  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8"), HasSubstr("no diameter"));
+  EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 mu 0.3 diameter 69e-6",
+                  "comm_modify vel no"),
+              HasSubstr("comm_modify vel yes"));
+  EXPECT_THAT(
+      err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "newton off on"),
+      HasSubstr("newton pair on"));
+  EXPECT_THAT(err("pair_style ncf/contact lmax 1e-5", "pair_coeff * * kn 1e8 diameter 69e-6"),
+              HasSubstr("exceeds lmax"));
+  EXPECT_THAT(err("pair_style ncf/contact dtcheck maybe", "pair_coeff * * kn 1e8 diameter 69e-6"),
+              HasSubstr("dtcheck maybe"));
+  // time step above the critical one of the contacts: a clear error (sqrt(2 m / (kn L)) is
+  // 2.6e-7 s here), or a warning with dtcheck warn
+  EXPECT_THAT(
+      err("pair_style ncf/contact", "pair_coeff * * kn 1e8 diameter 69e-6", "timestep 1e-6"),
+      HasSubstr("above the critical time step"));
+  EXPECT_EQ(err("pair_style ncf/contact dtcheck warn", "pair_coeff * * kn 1e8 diameter 69e-6",
+                "timestep 1e-6\nbond_style ncf/chain dtcheck no\nbond_coeff 1 modulus 120e9 "
+                "diameter 69e-6"),
+            "");
+}

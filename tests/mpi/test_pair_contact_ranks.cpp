@@ -1,0 +1,171 @@
+// pair ncf/contact on 1, 2 and 4 MPI ranks (newton on, periodic in x and y, friction history):
+// a 50-chain mat compacted by a moving wall for 2000 steps ends in the same positions to 1e-10
+// (relative to the box); a run restarted in the middle on another number of ranks too.
+
+#include "../integration/test_pair_contact_scene.h"
+#include "ncf_lammps_test.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ncftest;
+using namespace contactscene;
+
+namespace {
+
+const double SIDE = 1.5e-3;
+const double DZ = 0.97 * DIAM;          // consecutive layers start slightly pressed together
+const int NLAYER = 5, PERLAYER = 10;    // 50 chains
+
+std::string scene_data()
+{
+  static std::string path;
+  if (path.empty()) {
+    auto dir = scratch_dir("contact_ranks");
+    Box box;
+    box.lo[0] = box.lo[1] = 0.0;
+    box.hi[0] = box.hi[1] = SIDE;
+    box.lo[2] = -DIAM;
+    box.hi[2] = (NLAYER - 0.5) * DZ + 0.6 * DIAM;
+    path = dir + "/mat.data";
+    if (world_rank() == 0)
+      write_data(path, layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box, RHO_A * 1e-4);
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+  return path;
+}
+
+const char *PRESS = R"(
+variable ztop equal zhi-10.0*time
+fix wtop all wall/harmonic zhi v_ztop 1e4 0.0 3.45e-5
+fix wbot all wall/harmonic zlo EDGE 1e4 0.0 3.45e-5
+fix nve all nve
+fix visc all viscous 1e-4
+timestep 5e-9
+thermo 0
+)";
+
+void define(Lammps &l)
+{
+  l.cmds(R"(
+units si
+atom_style bond
+atom_modify map array sort 0 0
+boundary p p f
+bond_style ncf/chain
+)");
+  l.cmd("read_data " + scene_data());
+  l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+pair_style ncf/contact
+pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6
+comm_modify vel yes
+neighbor 2e-5 bin
+neigh_modify every 1 delay 0 check yes
+velocity all set 0 0 0
+timestep 5e-9
+)");
+}
+
+// runs f on the first n ranks of MPI_COMM_WORLD; returns the positions on world rank 0
+std::vector<double> on_ranks(int n, const std::function<std::vector<double>(MPI_Comm)> &f)
+{
+  const int me = world_rank();
+  MPI_Comm comm;
+  MPI_Comm_split(MPI_COMM_WORLD, me < n ? 0 : MPI_UNDEFINED, me, &comm);
+  std::vector<double> out;
+  if (comm != MPI_COMM_NULL) {
+    out = f(comm);
+    MPI_Comm_free(&comm);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return out;
+}
+
+double rel_diff(const std::vector<double> &a, const std::vector<double> &b)
+{
+  if (a.size() != b.size() || a.empty()) return 1e300;
+  return max_abs_diff(a, b) / SIDE;
+}
+
+}    // namespace
+
+TEST(PairContactRanks, SameTrajectoryOn1And2And4Ranks)
+{
+  ASSERT_GE(world_size(), 4);
+  scene_data();    // collective: written before the communicators are split
+  double contacts = 0.0;
+  auto run = [&](MPI_Comm comm) {
+    Lammps l(comm);
+    define(l);
+    l.cmds(PRESS);
+    l.cmd("compute pc all pair ncf/contact");
+    l.cmd("thermo_style custom step pe c_pc[1]");
+    l.cmd("run 2000");
+    contacts = l.value("c_pc[1]");
+    return l.positions();
+  };
+  auto p1 = on_ranks(1, run);
+  auto p2 = on_ranks(2, run);
+  auto p4 = on_ranks(4, run);
+  if (world_rank() == 0) {
+    EXPECT_GT(contacts, 50.0) << "the mat must be in contact";
+    EXPECT_LT(rel_diff(p1, p2), 1e-10);
+    EXPECT_LT(rel_diff(p1, p4), 1e-10);
+    printf(
+        "[ pair ncf/contact ] %g contacts; max |dx| / box: 1 vs 2 ranks %.3g, 1 vs 4 ranks %.3g\n",
+        contacts, rel_diff(p1, p2), rel_diff(p1, p4));
+    // and the compaction moved the chains (the comparison is not trivial)
+    std::vector<double> p0;
+    {
+      Lammps l(MPI_COMM_SELF);
+      define(l);
+      l.cmd("run 0");
+      p0 = l.positions();
+    }
+    EXPECT_GT(rel_diff(p1, p0), 1e-4);
+  }
+}
+
+TEST(PairContactRanks, RestartInTheMiddleOnOtherRankCounts)
+{
+  ASSERT_GE(world_size(), 4);
+  scene_data();
+  const std::string restart = scratch_dir("contact_ranks_restart") + "/mid.restart";
+  auto straight = on_ranks(1, [&](MPI_Comm comm) {
+    Lammps l(comm);
+    define(l);
+    l.cmds(PRESS);
+    l.cmd("run 1000");
+    l.cmd("run 1000");
+    return l.positions();
+  });
+  on_ranks(4, [&](MPI_Comm comm) {
+    Lammps l(comm);
+    define(l);
+    l.cmds(PRESS);
+    l.cmd("run 1000");
+    l.cmd("write_restart " + restart);
+    return std::vector<double>();
+  });
+  auto resumed = on_ranks(2, [&](MPI_Comm comm) {
+    Lammps l(comm);
+    l.cmd("read_restart " + restart);
+    l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+comm_modify vel yes
+neighbor 2e-5 bin
+neigh_modify every 1 delay 0 check yes
+)");
+    l.cmds(PRESS);
+    l.cmd("run 1000");
+    return l.positions();
+  });
+  if (world_rank() == 0) {
+    EXPECT_LT(rel_diff(straight, resumed), 1e-10);
+    printf("[ pair ncf/contact ] restart 4 -> 2 ranks vs straight run on 1 rank: max |dx| / box "
+           "%.3g\n",
+           rel_diff(straight, resumed));
+  }
+}
