@@ -69,17 +69,12 @@ timestep 5e-9
 }
 
 // runs f on the first n ranks of MPI_COMM_WORLD; returns the positions on world rank 0
-std::vector<double> on_ranks(int n, const std::function<std::vector<double>(MPI_Comm)> &f)
+std::vector<double> positions_on_ranks(int n, const std::function<std::vector<double>(MPI_Comm)> &f)
 {
-  const int me = world_rank();
-  MPI_Comm comm;
-  MPI_Comm_split(MPI_COMM_WORLD, me < n ? 0 : MPI_UNDEFINED, me, &comm);
   std::vector<double> out;
-  if (comm != MPI_COMM_NULL) {
+  on_ranks(n, [&](MPI_Comm comm) {
     out = f(comm);
-    MPI_Comm_free(&comm);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  });
   return out;
 }
 
@@ -106,9 +101,9 @@ TEST(PairContactRanks, SameTrajectoryOn1And2And4Ranks)
     contacts = l.value("c_pc[1]");
     return l.positions();
   };
-  auto p1 = on_ranks(1, run);
-  auto p2 = on_ranks(2, run);
-  auto p4 = on_ranks(4, run);
+  auto p1 = positions_on_ranks(1, run);
+  auto p2 = positions_on_ranks(2, run);
+  auto p4 = positions_on_ranks(4, run);
   if (world_rank() == 0) {
     EXPECT_GT(contacts, 50.0) << "the mat must be in contact";
     EXPECT_LT(rel_diff(p1, p2), 1e-10);
@@ -133,7 +128,7 @@ TEST(PairContactRanks, RestartInTheMiddleOnOtherRankCounts)
   ASSERT_GE(world_size(), 4);
   scene_data();
   const std::string restart = scratch_dir("contact_ranks_restart") + "/mid.restart";
-  auto straight = on_ranks(1, [&](MPI_Comm comm) {
+  auto straight = positions_on_ranks(1, [&](MPI_Comm comm) {
     Lammps l(comm);
     define(l);
     l.cmds(PRESS);
@@ -141,7 +136,7 @@ TEST(PairContactRanks, RestartInTheMiddleOnOtherRankCounts)
     l.cmd("run 1000");
     return l.positions();
   });
-  on_ranks(4, [&](MPI_Comm comm) {
+  positions_on_ranks(4, [&](MPI_Comm comm) {
     Lammps l(comm);
     define(l);
     l.cmds(PRESS);
@@ -149,7 +144,7 @@ TEST(PairContactRanks, RestartInTheMiddleOnOtherRankCounts)
     l.cmd("write_restart " + restart);
     return std::vector<double>();
   });
-  auto resumed = on_ranks(2, [&](MPI_Comm comm) {
+  auto resumed = positions_on_ranks(2, [&](MPI_Comm comm) {
     Lammps l(comm);
     l.cmd("read_restart " + restart);
     l.cmds(R"(
