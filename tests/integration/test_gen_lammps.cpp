@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 using namespace ncftest;
@@ -134,7 +135,8 @@ void load_and_check(const std::string &card, const std::string &name)
   ASSERT_GT(layers.atoms, 0);
   ASSERT_GT(yarn.atoms, 0);
 
-  Lammps l;
+  auto lp = std::make_unique<Lammps>();
+  Lammps &l = *lp;
   l.cmds(SETUP);
   l.cmd("read_data " + prefix + ".layers.data" + READ_FIXES);
   l.cmd("include " + prefix + ".settings.lmp");
@@ -207,6 +209,22 @@ void load_and_check(const std::string &card, const std::string &name)
   EXPECT_LT(std::fabs(l.value("ebond")), 1e-18);
   EXPECT_EQ((long) l.value("atoms"), layers.atoms + yarn.atoms);
   EXPECT_LT(max_abs_diff(l.positions(), x), 1e-12);
+
+  // the same through LAMMPS's own contact evaluation (pair ncf/contact): the layers alone and the
+  // yarn alone have no penetration at the first step (one LAMMPS instance at a time: plugins are
+  // registered per process)
+  lp.reset();
+  for (const std::string part : {"layers", "yarn"}) {
+    Lammps p;
+    p.cmds(SETUP);
+    p.cmd("read_data " + prefix + "." + part + ".data" + READ_FIXES);
+    p.cmd("include " + prefix + ".settings.lmp");
+    p.cmds("pair_style ncf/contact\npair_coeff * * kn 1e8 diameter ${ncf_d_fibre}\n"
+           "pair_coeff ${ncf_yarn_type} ${ncf_yarn_type} diameter ${ncf_d_yarn}\n"
+           "compute pc all pair ncf/contact\nthermo_style custom step c_pc[1] c_pc[3]\nrun 0");
+    EXPECT_EQ(p.value("c_pc[3]"), 0.0) << name << " " << part;
+  }
+
 }
 
 }    // namespace

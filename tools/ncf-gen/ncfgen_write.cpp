@@ -160,6 +160,18 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   }
   s += "variable ncf_d_" + std::to_string(yt) + " equal " + g(f.yarn.chain.diameter) +
       "  # contact diameter of the stitching yarn [m]\n";
+  // the same under names that do not depend on the number of layers (all filament chains of a
+  // card share its chain_diameter), and the layers' nominal angles for compute ncf/orient
+  s += "variable ncf_d_fibre equal " + g(f.layers.front().chain.diameter) +
+      "  # contact diameter of every filament chain [m]\n";
+  s += "variable ncf_d_yarn equal " + g(f.yarn.chain.diameter) +
+      "  # contact diameter of the stitching yarn [m]\n";
+  std::string orient;
+  for (int i = 0; i < nl; i++)
+    orient += (i ? " " : "") + std::string("layer ") + std::to_string(i + 1) + " " +
+        g(f.layers[i].spec.angle);
+  s += "variable ncf_orient_layers string \"" + orient +
+      "\"  # arguments of compute ncf/orient\n";
   double dt = f.yarn.dt_crit;
   for (auto &L : f.layers) dt = std::min(dt, L.dt_crit);
   s += "variable ncf_dt_crit equal " + g(dt) + "  # min over bonds of L0 sqrt(rho/E) [s]\n\n";
