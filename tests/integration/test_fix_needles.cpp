@@ -118,6 +118,26 @@ TEST(FixNeedles, NeedleAcrossThePeriodicBoundary)
   EXPECT_NEAR(f2, f1, 1e-12 * std::fabs(f1));
 }
 
+TEST(FixNeedles, PointUpMirrorsPointDown)
+{
+  // a needle coming up from below (direction up) meets the chain as its mirror image coming down
+  auto dir = scratch_dir("needles_up");
+  double fy[2], fz[2];
+  for (int k = 0; k < 2; k++) {
+    Lammps l;
+    load(l, write_chain(dir, 4, 1e-3, 0.0));
+    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 1e-4 move {} 0 length 1.5e-3 tip 2e-4 direction {}",
+                      DN, KN, DC, k == 0 ? -1.5e-4 : 1.5e-4, k == 0 ? "down" : "up"));
+    l.cmd("run 0");
+    fy[k] = l.value("f_nd[1][2]");
+    fz[k] = l.value("f_nd[1][3]");
+  }
+  EXPECT_GT(fy[0], 0.0);     // the chain (at y = 0) pushes the needle (at y = 0.1 mm) to +y
+  EXPECT_GT(fz[0], 0.0);     // the point pushes the chain down, so the chain pushes it up
+  EXPECT_NEAR(fy[1], fy[0], 1e-12 * fy[0]);
+  EXPECT_NEAR(fz[1], -fz[0], 1e-12 * std::fabs(fz[0]));
+}
+
 TEST(FixNeedles, TipAboveTheChainTouchesNothingThenPiercing)
 {
   auto dir = scratch_dir("needles_motion");
