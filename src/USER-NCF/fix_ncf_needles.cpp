@@ -3,9 +3,10 @@
    fix ncf/needles (see fix_ncf_needles.h, doc/fix_ncf_needles.md)
 
    Every chain segment (bond) with both nodes in the group is tested against every needle at its
-   closest periodic image. The contact is NCF::segment_contact with the needle's axis (tip to
-   tip + length) as segment B and the contact distance needle radius + chain radius: exact,
-   conservative, continuous, and with the weight ramp at the tip as the needle's point.
+   closest periodic image. The contact is NCF::needle_contact of ncf_needle.h: a monotonic
+   penalty on the horizontal penetration of the chain into the pointed needle (a body of
+   revolution), integrated along the segment; conservative, continuous, pushing the chains out
+   along the needle's normal (radially, plus the point's axial part) up to the axis itself.
    Segments are visited from both of their nodes (through the 1-2 special list), and each owner
    applies the force on its own node only: no ghost forces, no communication, every segment's
    force complete once.
@@ -21,7 +22,7 @@
 #include "update.h"
 #include "variable.h"
 
-#include "ncf_contact.h"
+#include "ncf_needle.h"
 
 #include <cmath>
 #include <cstdio>
@@ -146,6 +147,11 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
   if (tip < 0.0) tip = radius;
   if (length < 0.0) length = domain->boxhi[2] - domain->boxlo[2];
+  if (length < NCF::needle_min_length(tip))
+    error->all(FLERR,
+               "fix ncf/needles: length {} must be at least {} times tip {} (a point at each end "
+               "and a shaft between)",
+               length, NCF::needle_min_length(1.0), tip);
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
   size_array_rows = (int) nx.size();
@@ -229,6 +235,12 @@ void FixNCFNeedles::post_force(int /*vflag*/)
   std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, max pen
   double emine = 0.0, penmine = 0.0;
   int cmine = 0, missing = 0;
+  NCF::Needle needle;
+  needle.zapex = ztip;
+  needle.direction = direction;
+  needle.radius = radius;
+  needle.tip = tip;
+  needle.length = length;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double di = chain_d[type[i]];
@@ -241,22 +253,25 @@ void FixNCFNeedles::post_force(int /*vflag*/)
       }
       j = domain->closest_image(i, j);
       if (!(mask[j] & groupbit)) continue;
-      const double dc = radius + 0.5 * di;
+      const double dj = chain_d[type[j]];
+      if (dj <= 0.0) continue;
+      // the same radius from both nodes: the mean of the two types' diameters, halved
+      const double rc = 0.25 * (di + dj);
       const NCF::Vec3 a0{x[i][0], x[i][1], x[i][2]}, a1{x[j][0], x[j][1], x[j][2]};
-      // the segment's extent in z, to skip needles whose tip has not reached it
-      const double zmin = std::min(a0.z, a1.z) - dc - tip, zmax = std::max(a0.z, a1.z) + dc + tip;
+      // the segment's extent in z, to skip needles whose body does not reach it
+      const double margin = rc + rc * tip / radius;
+      const double zmin = std::min(a0.z, a1.z) - margin, zmax = std::max(a0.z, a1.z) + margin;
       const double zb = ztip, ze = ztip - direction * length;
       if (std::max(zb, ze) < zmin || std::min(zb, ze) > zmax) continue;
+      const double half = 0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
       for (int k = 0; k < nn; k++) {
         // the needle's closest image to the segment's midpoint
         double d[3] = {0.5 * (a0.x + a1.x) - nx[k], 0.5 * (a0.y + a1.y) - ny[k], 0.0};
         domain->minimum_image(d[0], d[1], d[2]);
-        const double cx = 0.5 * (a0.x + a1.x) - d[0], cy = 0.5 * (a0.y + a1.y) - d[1];
-        const double half =
-            0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
-        if (d[0] * d[0] + d[1] * d[1] > (half + dc) * (half + dc)) continue;
-        const NCF::Vec3 b0{cx, cy, zb}, b1{cx, cy, ze};
-        const NCF::SegmentContact c = NCF::segment_contact(a0, a1, b0, b1, dc, kn, 0.5 * tip);
+        if (d[0] * d[0] + d[1] * d[1] > (half + radius + rc) * (half + radius + rc)) continue;
+        needle.x = 0.5 * (a0.x + a1.x) - d[0];
+        needle.y = 0.5 * (a0.y + a1.y) - d[1];
+        const NCF::NeedleContact c = NCF::needle_contact(a0, a1, rc, needle, kn);
         if (!c.active) continue;
         // visited from both nodes: each applies its own node's force, and half the energy
         f[i][0] += c.f[0].x;

@@ -1,8 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    USER-NCF: filament-scale virtual manufacturing of non-crimp fabrics.
    fix ncf/needles: needle indenters at the stitching points, moving along z, in contact with
-   chain *segments* (a needle can pass between two nodes). Contact law: the line-to-line penalty
-   of ncf_contact.h with the needle axis as the second segment; see doc/fix_ncf_needles.md.
+   chain *segments* (a needle can pass between two nodes). Contact law: NCF::needle_contact of
+   ncf_needle.h (pointed body of revolution, monotonic penalty); see doc/fix_ncf_needles.md.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -40,7 +40,7 @@ class FixNCFNeedles : public Fix {
   enum Motion { MOVE, TARGET, VARIABLE };
   std::vector<double> nx, ny;    // needle axes
   double radius;                 // needle radius
-  double tip;                    // length of the tip taper
+  double tip;                    // length of the conical point
   double length;                 // needle length from the tip
   double kn;
   int direction;                  // -1: tip points down (shaft above), +1: tip points up

@@ -1,6 +1,6 @@
-// Integration tests of fix ncf/needles: segment-based needle contact.
+// Integration tests of fix ncf/needles: segment-based needle contact (kernel ncf_needle.h).
 
-#include "ncf_contact.h"
+#include "ncf_needle.h"
 #include "ncf_lammps_test.h"
 
 #include "fmt/format.h"
@@ -48,21 +48,27 @@ bond_style ncf/chain
   l.cmd("bond_coeff 1 ea 100");
 }
 
-// independent sum of the kernel over the ring's segments against one needle axis
+// independent sum of the kernel over the ring's segments against one needle (point down)
 NCF::Vec3 kernel_force_on_needle(int n, double a, double y0, double nxp, double nyp, double ztip,
                                  double len, double tip)
 {
   NCF::Vec3 fsum;
   for (int i = 0; i < n; i++) {
     NCF::Vec3 a0{(i + 0.5) * a, y0, 0}, a1{(i + 1.5) * a, y0, 0};
-    NCF::Vec3 b0{nxp, nyp, ztip}, b1{nxp, nyp, ztip + len};
     // the needle's image nearest to this segment (box length n a in x)
     const double mid = (i + 1.0) * a, L = n * a;
     double dx = mid - nxp;
     dx -= L * std::round(dx / L);
-    b0.x = b1.x = mid - dx;
-    auto c = NCF::segment_contact(a0, a1, b0, b1, 0.5 * (DN + DC), KN, 0.5 * tip);
-    fsum += c.f[2] + c.f[3];
+    NCF::Needle nd;
+    nd.x = mid - dx;
+    nd.y = nyp;
+    nd.zapex = ztip;
+    nd.direction = -1;
+    nd.radius = 0.5 * DN;
+    nd.tip = tip;
+    nd.length = len;
+    auto c = NCF::needle_contact(a0, a1, 0.5 * DC, nd, KN);
+    fsum += c.fneedle;
   }
   return fsum;
 }
@@ -103,13 +109,33 @@ TEST(FixNeedles, NeedleAcrossThePeriodicBoundary)
   for (double xn : {1.5e-3, 1.5e-3 + 4e-3}) {
     Lammps l;
     load(l, write_chain(dir, n, a, 0.0));
-    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at {} {} move -1e-4 0 length 1.5e-3",
+    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at {} {} move -5e-4 0 length 1.5e-3",
                       DN, KN, DC, xn, off));
     l.cmd("run 0");
     (xn < 3e-3 ? f1 : f2) = l.value("f_nd[1][2]");
   }
   EXPECT_NE(f1, 0.0);
   EXPECT_NEAR(f2, f1, 1e-12 * std::fabs(f1));
+}
+
+TEST(FixNeedles, PointUpMirrorsPointDown)
+{
+  // a needle coming up from below (direction up) meets the chain as its mirror image coming down
+  auto dir = scratch_dir("needles_up");
+  double fy[2], fz[2];
+  for (int k = 0; k < 2; k++) {
+    Lammps l;
+    load(l, write_chain(dir, 4, 1e-3, 0.0));
+    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 1e-4 move {} 0 length 1.5e-3 tip 2e-4 direction {}",
+                      DN, KN, DC, k == 0 ? -1.5e-4 : 1.5e-4, k == 0 ? "down" : "up"));
+    l.cmd("run 0");
+    fy[k] = l.value("f_nd[1][2]");
+    fz[k] = l.value("f_nd[1][3]");
+  }
+  EXPECT_GT(fy[0], 0.0);     // the chain (at y = 0) pushes the needle (at y = 0.1 mm) to +y
+  EXPECT_GT(fz[0], 0.0);     // the point pushes the chain down, so the chain pushes it up
+  EXPECT_NEAR(fy[1], fy[0], 1e-12 * fy[0]);
+  EXPECT_NEAR(fz[1], -fz[0], 1e-12 * std::fabs(fz[0]));
 }
 
 TEST(FixNeedles, TipAboveTheChainTouchesNothingThenPiercing)
@@ -168,4 +194,5 @@ INSTANTIATE_TEST_SUITE_P(
         BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 file DIR/bad.needles move 0 0", "bad.needles:3: expected 'x y', got '1e-3'"},
         BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 direction left", "fix ncf/needles: direction 'left' is not one of down, up"},
         BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 v_nothing", "fix ncf/needles: variable 'nothing' does not exist"},
-        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 sharp yes", "fix ncf/needles: unknown keyword 'sharp'"}));
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 sharp yes", "fix ncf/needles: unknown keyword 'sharp'"},
+        BadNeedle{"diameter 5e-4 kn 1e8 chain 1 69e-6 at 0 0 move 0 0 tip 1e-3 length 2e-3", "fix ncf/needles: length 0.002 must be at least 2.2 times tip 0.001"}));
