@@ -11,6 +11,8 @@
 #include "library.h"
 #include "variable.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -189,7 +191,12 @@ void on_ranks(int n, const std::function<void(MPI_Comm)> &f)
   MPI_Comm comm;
   MPI_Comm_split(MPI_COMM_WORLD, world_rank() < n ? 0 : MPI_UNDEFINED, world_rank(), &comm);
   if (comm != MPI_COMM_NULL) {
-    f(comm);
+    // an error on some ranks must not leave the others waiting in the barrier below
+    try {
+      f(comm);
+    } catch (std::exception &e) {
+      ADD_FAILURE() << "on " << n << " rank(s), world rank " << world_rank() << ": " << e.what();
+    }
     MPI_Comm_free(&comm);
   }
   MPI_Barrier(MPI_COMM_WORLD);
