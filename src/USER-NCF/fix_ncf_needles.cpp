@@ -22,6 +22,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "ncf_motion_lammps.h"
 #include "ncf_needle.h"
 
 #include <cmath>
@@ -40,9 +41,8 @@ using namespace FixConst;
 ------------------------------------------------------------------------- */
 
 FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), motion(-1),
-    z0(0.0), ztarget(0.0), speed(0.0), t0(0.0), ivar(-1), ztip(0.0), energy(0.0), maxpen(0.0),
-    ncontact(0)
+    Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), t0(0.0),
+    ivar(-1), ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -112,26 +112,9 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
       else
         error->all(FLERR, "fix ncf/needles: direction '{}' is not one of down, up", v);
       iarg += 2;
-    } else if (key == "move") {
-      motion = MOVE;
-      z0 = number(iarg + 1, "move");
-      speed = number(iarg + 2, "move");
-      iarg += 3;
-    } else if (key == "target") {
-      motion = TARGET;
-      z0 = number(iarg + 1, "target");
-      ztarget = number(iarg + 2, "target");
-      speed = std::fabs(number(iarg + 3, "target"));
-      if (speed == 0.0) error->all(FLERR, "fix ncf/needles: 'target' needs a speed > 0");
-      iarg += 4;
-    } else if (utils::strmatch(key, "^v_")) {
-      motion = VARIABLE;
-      var = key.substr(2);
-      ivar = input->variable->find(var.c_str());
-      if (ivar < 0) error->all(FLERR, "fix ncf/needles: variable '{}' does not exist", var);
-      if (!input->variable->equalstyle(ivar))
-        error->all(FLERR, "fix ncf/needles: variable '{}' is not equal-style", var);
-      iarg += 1;
+    } else if (key == "move" || key == "target" || utils::strmatch(key, "^v_")) {
+      iarg =
+          NCF_LMP::parse_motion(lmp, "fix ncf/needles: 'tips", iarg, narg, arg, motion, var, false);
     } else
       error->all(FLERR, "fix ncf/needles: unknown keyword '{}'", key);
   }
@@ -140,7 +123,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   if (kn == 0.0)
     error->all(FLERR, "fix ncf/needles: keyword 'kn' (contact stiffness, Pa) is required");
   if (nx.empty()) error->all(FLERR, "fix ncf/needles: no needle: give 'file FILE' or 'at X Y'");
-  if (motion < 0)
+  if (motion.kind == NCF::Motion::NONE)
     error->all(FLERR, "fix ncf/needles: give the motion of the tips: move, target or v_NAME");
   bool any = false;
   for (double d : chain_d) any |= d > 0.0;
@@ -190,7 +173,7 @@ int FixNCFNeedles::setmask()
 
 void FixNCFNeedles::init()
 {
-  if (motion == VARIABLE) {
+  if (motion.kind == NCF::Motion::VARIABLE) {
     ivar = input->variable->find(var.c_str());
     if (ivar < 0) error->all(FLERR, "fix ncf/needles: variable '{}' does not exist", var);
   }
@@ -205,14 +188,12 @@ double FixNCFNeedles::elapsed() const
 
 void FixNCFNeedles::update_tip()
 {
-  const double t = elapsed() - t0;
-  if (motion == MOVE)
-    ztip = z0 + speed * t;
-  else if (motion == TARGET) {
-    const double dist = std::fabs(ztarget - z0), dir = ztarget >= z0 ? 1.0 : -1.0;
-    ztip = speed * t >= dist ? ztarget : z0 + dir * speed * t;
-  } else
+  if (motion.kind == NCF::Motion::VARIABLE) {
     ztip = input->variable->compute_equal(ivar);
+    return;
+  }
+  double v;
+  motion.at(elapsed() - t0, ztip, v);
 }
 
 void FixNCFNeedles::setup(int vflag)
@@ -335,7 +316,9 @@ double FixNCFNeedles::compute_array(int i, int j)
 void FixNCFNeedles::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double buf[5] = {t0, (double) motion, z0, ztarget, speed};
+  double buf[5];
+  buf[0] = t0;
+  motion.pack(&buf[1]);
   int size = sizeof(buf);
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(buf, sizeof(double), 5, fp);
@@ -344,7 +327,9 @@ void FixNCFNeedles::write_restart(FILE *fp)
 void FixNCFNeedles::restart(char *raw)
 {
   auto *buf = (double *) raw;
-  if ((int) buf[1] != motion || buf[2] != z0 || buf[3] != ztarget || buf[4] != speed) {
+  NCF::Motion stored;
+  stored.unpack(&buf[1]);
+  if (!stored.same_as(motion)) {
     if (comm->me == 0)
       error->warning(
           FLERR,

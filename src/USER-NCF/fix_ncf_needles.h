@@ -15,6 +15,7 @@ FixStyle(ncf/needles,FixNCFNeedles);
 #define LMP_FIX_NCF_NEEDLES_H
 
 #include "fix.h"
+#include "ncf_motion.h"
 
 #include <string>
 #include <vector>
@@ -37,7 +38,6 @@ class FixNCFNeedles : public Fix {
   int image(int *&, double **&) override;
 
  protected:
-  enum Motion { MOVE, TARGET, VARIABLE };
   std::vector<double> nx, ny;    // needle axes
   double radius;                 // needle radius
   double tip;                    // length of the conical point
@@ -45,8 +45,8 @@ class FixNCFNeedles : public Fix {
   double kn;
   int direction;                  // -1: tip points down (shaft above), +1: tip points up
   std::vector<double> chain_d;    // chain diameter per atom type (0 = not in contact)
-  int motion;
-  double z0, ztarget, speed, t0;
+  NCF::Motion motion;             // of the tips (ncf_motion.h)
+  double t0;
   std::string var;
   int ivar;
   double ztip;

@@ -17,6 +17,7 @@
 
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
+#include "ncf_motion_lammps.h"
 #include "ncf_wall.h"
 
 #include <cmath>
@@ -95,7 +96,9 @@ void FixNCFPlate::parse(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "lower" || key == "upper") {
-      iarg = parse_plate(plate[key == "lower" ? 0 : 1], iarg + 1, narg, arg, key.c_str());
+      Plate &p = plate[key == "lower" ? 0 : 1];
+      iarg = NCF_LMP::parse_motion(lmp, "fix ncf/plate: '" + key, iarg + 1, narg, arg, p.motion,
+                                   p.var, true);
       continue;
     }
     if (key != "kn" && key != "kt" && key != "mu" && key != "damp" && key != "diameter")
@@ -123,7 +126,7 @@ void FixNCFPlate::parse(int narg, char **arg)
     iarg += 2;
   }
   if (!have_kn) error->all(FLERR, "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required");
-  if (plate[0].motion == NONE && plate[1].motion == NONE)
+  if (plate[0].motion.kind == NCF::Motion::NONE && plate[1].motion.kind == NCF::Motion::NONE)
     error->all(FLERR, "fix ncf/plate: define at least one plate with 'lower' or 'upper'");
   if (mu > 0.0 && kt == 0.0)
     error->all(FLERR, "fix ncf/plate: friction (mu {}) needs a tangential stiffness 'kt' > 0", mu);
@@ -132,57 +135,6 @@ void FixNCFPlate::parse(int narg, char **arg)
   if (!any)
     error->all(FLERR,
                "fix ncf/plate: give the chain diameter of the atom types: 'diameter TYPES D'");
-}
-
-int FixNCFPlate::parse_plate(Plate &p, int iarg, int narg, char **arg, const char *which)
-{
-  if (iarg >= narg)
-    error->all(FLERR,
-               "fix ncf/plate: '{}' needs a motion: z Z, move Z0 V, target Z0 ZT V or v_NAME",
-               which);
-  const std::string kind = arg[iarg];
-  auto number = [&](int k) {
-    if (iarg + k >= narg)
-      error->all(FLERR, "fix ncf/plate: '{} {}' needs more values", which, kind);
-    if (!utils::is_double(arg[iarg + k]))
-      error->all(FLERR, "fix ncf/plate: value '{}' in '{} {}' is not a number", arg[iarg + k],
-                 which, kind);
-    return utils::numeric(FLERR, arg[iarg + k], false, lmp);
-  };
-  if (kind == "z") {
-    p.motion = FIXED;
-    p.z0 = number(1);
-    return iarg + 2;
-  }
-  if (kind == "move") {
-    p.motion = MOVE;
-    p.z0 = number(1);
-    p.speed = number(2);
-    return iarg + 3;
-  }
-  if (kind == "target") {
-    p.motion = TARGET;
-    p.z0 = number(1);
-    p.ztarget = number(2);
-    p.speed = std::fabs(number(3));
-    if (p.speed == 0.0) error->all(FLERR, "fix ncf/plate: '{} target' needs a speed > 0", which);
-    return iarg + 4;
-  }
-  if (utils::strmatch(kind, "^v_")) {
-    p.motion = VARIABLE;
-    p.var = kind.substr(2);
-    p.ivar = input->variable->find(p.var.c_str());
-    if (p.ivar < 0)
-      error->all(FLERR, "fix ncf/plate: variable '{}' for the {} plate does not exist", p.var,
-                 which);
-    if (!input->variable->equalstyle(p.ivar))
-      error->all(FLERR, "fix ncf/plate: variable '{}' for the {} plate is not equal-style", p.var,
-                 which);
-    return iarg + 1;
-  }
-  error->all(FLERR, "fix ncf/plate: unknown motion '{}' for the {} plate (z, move, target, v_NAME)",
-             kind, which);
-  return narg;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -195,7 +147,7 @@ int FixNCFPlate::setmask()
 void FixNCFPlate::init()
 {
   for (auto &p : plate)
-    if (p.motion == VARIABLE) {
+    if (p.motion.kind == NCF::Motion::VARIABLE) {
       p.ivar = input->variable->find(p.var.c_str());
       if (p.ivar < 0) error->all(FLERR, "fix ncf/plate: variable '{}' does not exist", p.var);
     }
@@ -219,36 +171,12 @@ void FixNCFPlate::update_plates()
   const double t = elapsed() - t0;
   for (int k = 0; k < 2; k++) {
     Plate &p = plate[k];
-    switch (p.motion) {
-      case FIXED:
-        p.z = p.z0;
-        p.vz = 0.0;
-        break;
-      case MOVE:
-        p.z = p.z0 + p.speed * t;
-        p.vz = p.speed;
-        break;
-      case TARGET: {
-        const double dist = std::fabs(p.ztarget - p.z0), travelled = p.speed * t;
-        const double dir = p.ztarget >= p.z0 ? 1.0 : -1.0;
-        if (travelled >= dist) {
-          p.z = p.ztarget;
-          p.vz = 0.0;
-        } else {
-          p.z = p.z0 + dir * travelled;
-          p.vz = dir * p.speed;
-        }
-        break;
-      }
-      case VARIABLE: {
-        const double z = input->variable->compute_equal(p.ivar);
-        p.vz = update->dt > 0.0 ? (z - zprev[k]) / update->dt : 0.0;
-        zprev[k] = p.z = z;
-        break;
-      }
-      default:
-        break;
-    }
+    if (p.motion.kind == NCF::Motion::VARIABLE) {
+      const double z = input->variable->compute_equal(p.ivar);
+      p.vz = update->dt > 0.0 ? (z - zprev[k]) / update->dt : 0.0;
+      zprev[k] = p.z = z;
+    } else
+      p.motion.at(t, p.z, p.vz);
   }
 }
 
@@ -346,7 +274,7 @@ void FixNCFPlate::apply()
     const double l = tributary_length(i);
     for (int k = 0; k < 2; k++) {
       const Plate &p = plate[k];
-      if (p.motion == NONE) continue;
+      if (p.motion.kind == NCF::Motion::NONE) continue;
       const int side = k == 0 ? 1 : -1;
       const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
       double *s = use_history ? &slip[i][3 * k] : nullptr;
@@ -442,19 +370,15 @@ double FixNCFPlate::compute_vector(int n)
 void FixNCFPlate::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double buf[1 + 2 * 6];
+  double buf[1 + 2 * 5];
   buf[0] = t0;
   for (int k = 0; k < 2; k++) {
-    buf[1 + 6 * k] = plate[k].motion;
-    buf[2 + 6 * k] = plate[k].z0;
-    buf[3 + 6 * k] = plate[k].ztarget;
-    buf[4 + 6 * k] = plate[k].speed;
-    buf[5 + 6 * k] = plate[k].z;
-    buf[6 + 6 * k] = zprev[k];
+    plate[k].motion.pack(&buf[1 + 5 * k]);
+    buf[5 + 5 * k] = zprev[k];
   }
   int size = sizeof(buf);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(buf, sizeof(double), 13, fp);
+  fwrite(buf, sizeof(double), 11, fp);
 }
 
 void FixNCFPlate::restart(char *raw)
@@ -462,8 +386,9 @@ void FixNCFPlate::restart(char *raw)
   auto *buf = (double *) raw;
   // the motion continues where it stopped only if the plates are defined the same way
   for (int k = 0; k < 2; k++) {
-    if ((int) buf[1 + 6 * k] != plate[k].motion || buf[2 + 6 * k] != plate[k].z0 ||
-        buf[3 + 6 * k] != plate[k].ztarget || buf[4 + 6 * k] != plate[k].speed) {
+    NCF::Motion stored;
+    stored.unpack(&buf[1 + 5 * k]);
+    if (!stored.same_as(plate[k].motion)) {
       if (comm->me == 0)
         error->warning(FLERR,
                        "fix ncf/plate: the {} plate is defined differently from the restart "
@@ -473,8 +398,8 @@ void FixNCFPlate::restart(char *raw)
     }
   }
   t0 = buf[0];
-  zprev[0] = buf[6];
-  zprev[1] = buf[12];
+  zprev[0] = buf[5];
+  zprev[1] = buf[10];
   update_plates();
   if (comm->me == 0)
     utils::logmesg(
@@ -492,7 +417,7 @@ int FixNCFPlate::image(int *&ivec, double **&darray)
   imgbuf.clear();
   const double *lo = domain->boxlo, *hi = domain->boxhi;
   for (int k = 0; k < 2; k++) {
-    if (plate[k].motion == NONE) continue;
+    if (plate[k].motion.kind == NCF::Motion::NONE) continue;
     const double z = plate[k].z;
     const double c[4][3] = {
         {lo[0], lo[1], z}, {hi[0], lo[1], z}, {hi[0], hi[1], z}, {lo[0], hi[1], z}};

@@ -15,6 +15,7 @@ FixStyle(ncf/plate,FixNCFPlate);
 #define LMP_FIX_NCF_PLATE_H
 
 #include "fix.h"
+#include "ncf_motion.h"
 
 #include <string>
 #include <vector>
@@ -48,11 +49,9 @@ class FixNCFPlate : public Fix {
   int maxsize_restart() override;
 
  protected:
-  enum Motion { NONE, FIXED, MOVE, TARGET, VARIABLE };
   struct Plate {
-    int motion = NONE;
-    double z0 = 0.0, ztarget = 0.0, speed = 0.0;    // FIXED: z0; MOVE: z0 + v t; TARGET: to ztarget
-    std::string var;                                // VARIABLE: equal-style variable name
+    NCF::Motion motion;    // prescribed motion (ncf_motion.h)
+    std::string var;       // VARIABLE: equal-style variable name
     int ivar = -1;
     double z = 0.0, vz = 0.0;    // current position and velocity
   };
@@ -75,7 +74,6 @@ class FixNCFPlate : public Fix {
   std::vector<double *> imgrows;
 
   void parse(int, char **);
-  int parse_plate(Plate &p, int iarg, int narg, char **arg, const char *which);
   double elapsed() const;
   void update_plates();
   void apply();

@@ -202,15 +202,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadPlate{"kn 2e7 diameter 2 69e-6 lower z 0", "Numeric index 2 is out of bounds (1-1)"},
         BadPlate{"kn 2e7 diameter 1 69e-6 lower", "fix ncf/plate: 'lower' needs a motion"},
         BadPlate{"kn 2e7 diameter 1 69e-6 lower fly 3",
-                 "fix ncf/plate: unknown motion 'fly' for the lower plate"},
+                 "fix ncf/plate: 'lower': unknown motion 'fly' (z, move, target, v_NAME)"},
         BadPlate{"kn 2e7 diameter 1 69e-6 upper move 1e-3",
                  "fix ncf/plate: 'upper move' needs more values"},
         BadPlate{"kn 2e7 diameter 1 69e-6 upper target 1e-3 0 0",
                  "fix ncf/plate: 'upper target' needs a speed > 0"},
         BadPlate{"kn 2e7 diameter 1 69e-6 upper v_top",
-                 "fix ncf/plate: variable 'top' for the upper plate does not exist"},
+                 "fix ncf/plate: 'upper': variable 'top' does not exist"},
         BadPlate{"kn 2e7 diameter 1 69e-6 upper v_zz",
-                 "fix ncf/plate: variable 'zz' for the upper plate is not equal-style"},
+                 "fix ncf/plate: 'upper': variable 'zz' is not equal-style"},
         BadPlate{"kn 2e7 stiff 3 diameter 1 69e-6 lower z 0",
                  "fix ncf/plate: unknown keyword 'stiff'"}));
 
