@@ -76,12 +76,26 @@ class PairNCFContact : public Pair {
 
   // per-step work arrays
   std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
-  std::vector<double> segbox;    // per local+ghost atom, 2 slots: centre and half length
   std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
   std::vector<double> hnew;      // new history rows of owned atoms
   std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
 
+  // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
+  struct PairCand {
+    int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
+  };
+  struct CapCand {
+    int a0, a1;      // segment A (a0 owned)
+    int p, n, q;     // interior node n and its chain neighbours
+  };
+  std::vector<PairCand> plist;
+  std::vector<CapCand> clist;
+  bool lists_valid;
+  bigint lists_ncalls;
+  int lists_nlocal, lists_nall;
+
   void allocate();
+  void build_lists();
   void create_stores();
   void fill_topology();
   void find_lmax();
