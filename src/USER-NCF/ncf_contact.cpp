@@ -49,14 +49,15 @@ namespace {
 }    // namespace
 
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                               double dc, double kn, double ramp)
+                               double dc, double kn, double ramp, bool with_penetration)
 {
   SegmentContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
   const Vec3 da = a1 - a0, u = b1 - b0;
   const double la = norm(da), lb = norm(u);
   if (!(la > MIN_LENGTH * dc) || !(lb > MIN_LENGTH * dc)) return out;
-  const Vec3 ea = (1.0 / la) * da, eb = (1.0 / lb) * u;
+  const double inv_lb = 1.0 / lb;
+  const Vec3 ea = (1.0 / la) * da, eb = inv_lb * u;
 
   // along A: s(xi) = s0 + s1 xi (arc position on B's line), r(xi) = r0 + xi r1 (offset from it)
   const Vec3 w0 = a0 - b0;
@@ -81,19 +82,23 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   }
   if (!(hi > lo)) return out;
 
-  // break points of the piecewise polynomial integrand: ramp corners of W
-  double brk[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
+  // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
+  // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
+  double brk[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
   int nb = 0;
   brk[nb++] = lo;
   if (std::fabs(s1) > 1e-14 * la) {
-    const double corners[5] = {-e, e, lb - e, lb + e, 0.5 * lb};
-    for (double sc : corners) {
-      const double x = (sc - s0) / s1;
+    const double inv_s1 = 1.0 / s1;
+    const double corners[3] = {e, lb - e, 0.5 * lb};
+    const int ncorner = lb < 2.0 * e ? 3 : 2;
+    for (int k = 0; k < ncorner; k++) {
+      const double x = (corners[k] - s0) * inv_s1;
       if (x > lo && x < hi) brk[nb++] = x;
     }
   }
   brk[nb++] = hi;
-  for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
+  for (int a = 1; a < nb; a++)    // insertion sort of at most 5 values
     for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
 
   static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
@@ -119,7 +124,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
       double w, wd = 0.0;
       Vec3 gp, gb0, gb1;    // d(sigma)/d(p, B0, B1) of the active ramp variable
-      const Vec3 rl = (1.0 / lb) * r;
+      const Vec3 rl = inv_lb * r;
       if (wa <= wb) {
         w = wa;
         gp = eb;
@@ -139,7 +144,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
         wd = inv2e;
       }
       if (w <= 0.0 && wd == 0.0) continue;
-      const double t = s / lb;
+      const double t = s * inv_lb;
       const double hh = 0.5 * h * h;
       energy += om * kn * la * hh * w;
       length += om * la * w;
@@ -193,8 +198,10 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
     out.normal = (1.0 / fr) * fres;
     out.fn = fr;
   }
-  const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
-  out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  if (with_penetration) {
+    const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
+    out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  }
   return out;
 }
 
@@ -286,15 +293,21 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   };
   double pts[48];
   int np = 0;
+  double fa = deficit(brk[0]), defmax = fa;
   for (int k = 0; k + 1 < nb; k++) {
     pts[np++] = brk[k];
-    const double fa = deficit(brk[k]), fb = deficit(brk[k + 1]);
+    const double fb = deficit(brk[k + 1]);
+    defmax = std::max(defmax, fb);
     if ((fa > 0.0 && fb < 0.0) || (fa < 0.0 && fb > 0.0)) {
       const double x = brk[k] + (brk[k + 1] - brk[k]) * fa / (fa - fb);
       if (x > brk[k] && x < brk[k + 1]) pts[np++] = x;
     }
+    fa = fb;
   }
   pts[np++] = brk[nb - 1];
+  // the deficit is linear between the break points: no deficit at any of them (a straight or
+  // nearly straight chain, or A on the concave side), no cap
+  if (!(defmax > 0.0)) return out;
 
   // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
   static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,

@@ -32,6 +32,7 @@
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -493,6 +494,12 @@ const double *PairNCFContact::find_slip(tagint owner, tagint ohi, tagint blo, ta
 {
   const int m = atom->map(owner);
   if (m < 0) return nullptr;
+  return find_slip_row(m, ohi, blo, bhi);
+}
+
+// the same in the history row of the atom with index m (the owner node)
+const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
+{
   const double *row = atom->darray[idx_hist][m];
   const int n = (int) row[0];
   for (int k = 0; k < n && k < maxcontacts; k++) {
@@ -558,6 +565,9 @@ void PairNCFContact::build_lists()
   set_segments();
   plist.clear();
   clist.clear();
+  xbuild.resize(3 * (size_t) nall);
+  for (int k = 0; k < nall; k++)
+    for (int d = 0; d < 3; d++) xbuild[3 * (size_t) k + d] = x[k][d];
 
   // every owned segment has its partner here
   for (int i = 0; i < nlocal; i++)
@@ -582,7 +592,7 @@ void PairNCFContact::build_lists()
     const NCF::ClosestPoints cp =
         NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
     if (cp.dist2 >= lim * lim) return;
-    plist.push_back({ao, ia, bo, jb});
+    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2)});
   };
 
   // one entry per segment (owner node, slot) and, folded into the first segment entry of its
@@ -719,10 +729,16 @@ void PairNCFContact::build_lists()
                      "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
                      "present on this rank; communication cutoff too short",
                      tag[k], tag[ao], tag[ia]);
-        clist.push_back({ao, ia, kp, k, kq});
+        clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
       }
     }
   }
+  // in the order of the owned nodes (LAMMPS sorts them spatially): the positions, forces and
+  // history rows of a step are then visited nearly in memory order
+  std::stable_sort(plist.begin(), plist.end(),
+                   [](const PairCand &a, const PairCand &b) { return a.a0 < b.a0; });
+  std::stable_sort(clist.begin(), clist.end(),
+                   [](const CapCand &a, const CapCand &b) { return a.a0 < b.a0; });
 }
 
 /* ---------------------------------------------------------------------- */
@@ -763,6 +779,19 @@ void PairNCFContact::compute(int eflag, int vflag)
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
+  // largest displacement of any local or ghost node since the build (below skin/2): the distance
+  // of two segments, or of a segment and a node, has changed by at most twice that, so a listed
+  // pair whose distance at the build minus 2 dmove is beyond its reach needs no test this step,
+  // and one within D minus 2 dmove needs no prefilter
+  double dmove2 = 0.0;
+  for (int k = 0; k < nall; k++) {
+    const double *xb = &xbuild[3 * (size_t) k];
+    const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
+    dmove2 = MAX(dmove2, dx * dx + dy * dy + dz * dz);
+  }
+  // (relative margin for the round-off of the distances)
+  const double dmove2x = 2.0 * std::sqrt(dmove2) * (1.0 + 1e-12) + 1e-12 * reach_max;
+
   // every owned segment within the length the cutoffs were sized for
   const double lmax2 = lmax_used * lmax_used;
   for (int i = 0; i < nlocal; i++)
@@ -782,11 +811,15 @@ void PairNCFContact::compute(int eflag, int vflag)
   for (const PairCand &pc : plist) {
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     const int itype = type[ao], jtype = type[bo];
+    if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
     const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
-    if (!NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc)) continue;
+    if (pc.d + dmove2x >= dc &&
+        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
+      continue;
     const NCF::SegmentContact c =
-        NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype], ramp_frac * dc);
+        NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype], ramp_frac * dc,
+                             eflag_global != 0);
     if (!c.active) continue;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
@@ -808,7 +841,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (m > 0.0) {
         const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
         double slip[3] = {0.0, 0.0, 0.0};
-        const double *old = find_slip(A.lo, A.hi, B.lo, B.hi);
+        const double *old = find_slip_row(ao, A.hi, B.lo, B.hi);
         if (old) {
           slip[0] = old[0];
           slip[1] = old[1];
@@ -866,6 +899,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
+    if (cc.d - dmove2x >= dc) continue;
     // the cap acts only where A comes within D of the node
     const double *xn = x[k];
     const double *a0 = x[ao], *a1 = x[ia];

@@ -83,11 +83,14 @@ class PairNCFContact : public Pair {
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
     int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
+    double d;              // distance of the two segments at the build
   };
   struct CapCand {
-    int a0, a1;      // segment A (a0 owned)
-    int p, n, q;     // interior node n and its chain neighbours
+    int a0, a1;    // segment A (a0 owned)
+    int p, n, q;   // interior node n and its chain neighbours
+    double d;      // distance of segment A from node n at the build
   };
+  std::vector<double> xbuild;    // positions of all local and ghost atoms at the build
   std::vector<PairCand> plist;
   std::vector<CapCand> clist;
   bool lists_valid;
@@ -101,6 +104,7 @@ class PairNCFContact : public Pair {
   void find_lmax();
   void set_segments();
   const double *find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const;
+  const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
   bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
 };
