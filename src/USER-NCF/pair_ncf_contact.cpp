@@ -408,12 +408,14 @@ void PairNCFContact::init_style()
 
   // no neighbour list: candidate pairs come from a cell list of segment midpoints (compute)
 
-  // the ghost shell must hold the partner node of every ghost owner in the list (+ lmax) and,
-  // for the friction history, the owners of the neighbouring segments (+ 2 lmax)
+  // the ghost shell must hold both nodes of every segment B within reach + skin of an owned
+  // segment A: A reaches lmax beyond the sub-domain, B another lmax beyond A's reach + skin
+  // (2 lmax + reach + skin, which is also LAMMPS's own cutforce + skin); for the friction history
+  // also the owners of the segments next to B along its chain (+ lmax)
   double dmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
-  const double need = dmax * (1.0 + ramp_frac) + 2.0 * lmax_used + neighbor->skin +
-      (use_history ? 2.0 : 1.0) * lmax_used;
+  const double need = dmax * (1.0 + ramp_frac) + neighbor->skin +
+      (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
       utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
@@ -581,14 +583,23 @@ void PairNCFContact::build_lists()
   auto add_pair = [&](int ao, int sa, int bo, int sb) {
     const int ia = segp[2 * ao + sa];
     const int jb = segp[2 * bo + sb];
-    if (jb == -2)
-      error->one(FLERR,
-                 "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
-                 "present on this rank; communication cutoff too short",
-                 tag[bo], tag[ao]);
+    const double lim = reachf[type[ao]][type[bo]] + skin;
+    if (jb == -2) {
+      // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the
+      // sub-domain), so no point of B is within reach + skin of A (A reaches at most lmax beyond
+      // the sub-domain, B is at most lmax long). An error if B's own end node is that close:
+      // then the shell is too short for this pair.
+      const NCF::ClosestPoints cp =
+          NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[bo]));
+      if (cp.dist2 < lim * lim)
+        error->one(FLERR,
+                   "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                   "present on this rank; communication cutoff too short",
+                   tag[bo], tag[ao]);
+      return;
+    }
     const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
     if (share_node(A, B)) return;
-    const double lim = reachf[type[ao]][type[bo]] + skin;
     const NCF::ClosestPoints cp =
         NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
     if (cp.dist2 >= lim * lim) return;
