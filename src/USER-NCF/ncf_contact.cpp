@@ -105,9 +105,15 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   const double inv2e = 0.5 / e;
 
-  Vec3 g[4];    // dE/dx of A0, A1, B0, B1
-  Vec3 fres;    // resultant normal force on A
-  double energy = 0.0, length = 0.0, msum = 0.0, mxi = 0.0, ms = 0.0;
+  // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
+  // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
+  // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
+  // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
+  double C0 = 0.0, C1 = 0.0, C2 = 0.0;    // sum c, c xi, c xi^2
+  double P0 = 0.0, L0 = 0.0;              // sum p; sum om W
+  double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
+  double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
+  const double inv2dc = 0.5 / dc, invdc = 1.0 / dc;
 
   for (int k = 0; k + 1 < nb; k++) {
     const double half = 0.5 * (brk[k + 1] - brk[k]);
@@ -117,65 +123,74 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       const double xi = mid + half * gx[q];
       const double om = half * gw[q];
       const double s = s0 + s1 * xi;
-      const Vec3 r = r0 + xi * r1;
-      double h = (d2 - norm2(r)) / (2.0 * dc);
+      const double r2 = norm2(r0 + xi * r1);
+      double h = (d2 - r2) * inv2dc;
       if (h < 0.0) h = 0.0;
-      // weight and the gradient of its active ramp variable
+      // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
       const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-      double w, wd = 0.0;
-      Vec3 gp, gb0, gb1;    // d(sigma)/d(p, B0, B1) of the active ramp variable
-      const Vec3 rl = inv_lb * r;
-      if (wa <= wb) {
-        w = wa;
-        gp = eb;
-        gb0 = -eb - rl;
-        gb1 = rl;
-      } else {
-        w = wb;
-        gp = -eb;
-        gb0 = rl;
-        gb1 = eb - rl;
-      }
+      const bool ramp_a = wa <= wb;
+      double w = ramp_a ? wa : wb;
+      bool inramp = false;
       if (w >= 1.0) {
         w = 1.0;
       } else if (w <= 0.0) {
-        w = 0.0;
+        continue;
       } else {
-        wd = inv2e;
+        inramp = true;
       }
-      if (w <= 0.0 && wd == 0.0) continue;
-      const double t = s * inv_lb;
       const double hh = 0.5 * h * h;
-      energy += om * kn * la * hh * w;
-      length += om * la * w;
-      // dE/dx
-      const Vec3 dpart = kn * la * (-(h * w / dc) * r + (hh * wd) * gp);    // through p
-      const Vec3 lpart = (om * kn * hh * w) * ea;                           // through la
-      g[0] += om * (1.0 - xi) * dpart - lpart;
-      g[1] += om * xi * dpart + lpart;
-      g[2] += (om * kn * la) * (((1.0 - t) * h * w / dc) * r + (hh * wd) * gb0);
-      g[3] += (om * kn * la) * ((t * h * w / dc) * r + (hh * wd) * gb1);
-      // normal resultant and its centroid
-      const Vec3 fq = (om * kn * la * h * w / dc) * r;
-      fres += fq;
-      const double m = norm(fq);
-      msum += m;
-      mxi += m * xi;
-      ms += m * s;
+      L0 += om * w;
+      P0 += om * hh * w;
+      const double c = om * h * w * invdc;
+      C0 += c;
+      C1 += c * xi;
+      C2 += c * xi * xi;
+      if (inramp) {
+        const double qv = om * hh * inv2e;
+        if (ramp_a) {
+          QA0 += qv;
+          QA1 += qv * xi;
+        } else {
+          QB0 += qv;
+          QB1 += qv * xi;
+        }
+      }
+      const double cr = c * std::sqrt(r2);
+      M0 += cr;
+      M1 += cr * xi;
+      MS += cr * s;
     }
   }
+  const double energy = kn * la * P0, length = la * L0;
   if (!(energy > 0.0) && !(length > 0.0)) return out;
+
+  // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
+  // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
+  // eb - r/lb for the ramp at B1) and through la
+  const double K = kn * la;
+  const Vec3 cr_sum = C0 * r0 + C1 * r1;            // sum c r
+  const Vec3 cxr_sum = C1 * r0 + C2 * r1;           // sum c xi r
+  const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
+  const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
+  const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
+  const Vec3 lpart = (kn * P0) * ea;
+  Vec3 g[4];
+  g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
+  g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
+  g[2] = K * ((cr_sum - ctr_sum) - QA0 * eb - qa_rl + qb_rl);
+  g[3] = K * (ctr_sum + qa_rl + QB0 * eb - qb_rl);
+  const Vec3 fres = K * cr_sum;    // resultant normal force on A
 
   out.active = true;
   out.energy = energy;
   for (int n = 0; n < 4; n++) out.f[n] = -g[n];
   out.length = length;
-  if (msum > 0.0) {
-    out.xi = mxi / msum;
-    out.t = clamp01(ms / msum / lb);
+  if (M0 > 0.0) {
+    out.xi = M1 / M0;
+    out.t = clamp01(MS / M0 * inv_lb);
   } else {
     out.xi = 0.5 * (lo + hi);
-    out.t = clamp01((s0 + s1 * out.xi) / lb);
+    out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
   }
   // normal direction: the offset from B's line of the point of A's line closest to it (the
   // common perpendicular of the two lines), that point being kept within one contact distance
