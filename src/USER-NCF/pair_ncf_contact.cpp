@@ -799,6 +799,14 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double *xb = &xbuild[3 * (size_t) k];
     const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
     dmove2 = MAX(dmove2, dx * dx + dy * dy + dz * dz);
+    // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
+    // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
+    if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
+      error->one(FLERR,
+                 "pair ncf/contact: a node moved {:.6g} since the last reneighbouring, more than "
+                 "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
+                 "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
+                 std::sqrt(dmove2), neighbor->skin);
   }
   // (relative margin for the round-off of the distances)
   const double dmove2x = 2.0 * std::sqrt(dmove2) * (1.0 + 1e-12) + 1e-12 * reach_max;
