@@ -696,6 +696,28 @@ void PairNCFContact::build_lists()
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
   }
+  // compact copies for the inner loop: bounding sphere (midpoint, half length) and bounding box
+  // of each entry (the segment, or the node alone)
+  std::vector<std::array<double, 4>> sph(sorted.size());
+  std::vector<std::array<double, 6>> aabb(sorted.size());
+  for (size_t n = 0; n < sorted.size(); n++) {
+    const Seg &sg = sorted[n];
+    for (int d = 0; d < 3; d++) sph[n][d] = sg.m[d];
+    sph[n][3] = sg.half;
+    const int k = sg.owner;
+    const int p = sg.slot >= 0 ? segp[2 * k + sg.slot] : -1;
+    for (int d = 0; d < 3; d++) {
+      if (p >= 0) {
+        aabb[n][d] = MIN(x[k][d], x[p][d]);
+        aabb[n][3 + d] = MAX(x[k][d], x[p][d]);
+      } else if (sg.slot >= 0) {    // partner missing: anywhere within lmax of the node
+        aabb[n][d] = x[k][d] - lmax_used;
+        aabb[n][3 + d] = x[k][d] + lmax_used;
+      } else {
+        aabb[n][d] = aabb[n][3 + d] = x[k][d];
+      }
+    }
+  }
   // stencil of bin offsets whose nearest points are within R
   std::vector<std::array<int, 3>> stencil;
   for (int k = -reachb; k <= reachb; k++)
@@ -705,10 +727,19 @@ void PairNCFContact::build_lists()
                      gz = MAX(std::abs(k) - 1, 0);
         if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
       }
-  for (const Seg &sa : sorted) {
+  const double margin = reach_max + skin;
+  for (size_t na = 0; na < sorted.size(); na++) {
+    const Seg &sa = sorted[na];
     if (sa.owner >= nlocal || sa.slot < 0) continue;
     const int ao = sa.owner;
     const tagint ta = sa.tag, tpa = sa.ptag;
+    const std::array<double, 4> &spa = sph[na];
+    // A's bounding box grown by the largest reach + skin
+    double alo[3], ahi[3];
+    for (int d = 0; d < 3; d++) {
+      alo[d] = aabb[na][d] - margin;
+      ahi[d] = aabb[na][3 + d] + margin;
+    }
     int c[3];
     for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((sa.m[d] - lo[d]) / bsize));
     for (const auto &o : stencil) {
@@ -716,11 +747,17 @@ void PairNCFContact::build_lists()
       if (cx < 0 || cy < 0 || cz < 0 || cx >= nb[0] || cy >= nb[1] || cz >= nb[2]) continue;
       const int q = (cz * nb[1] + cy) * nb[0] + cx;
       for (int n = start[q]; n < start[q + 1]; n++) {
-        const Seg &sb = sorted[n];
-        // a superset of both tests below: the owner node is an end of the segment
-        const double ex = sa.m[0] - sb.m[0], ey = sa.m[1] - sb.m[1], ez = sa.m[2] - sb.m[2];
-        const double lim = sa.half + sb.half + reach_max + skin;
+        // supersets of both tests below (the owner node is an end of the segment): bounding
+        // spheres, then bounding boxes, within reach + skin
+        const std::array<double, 4> &spb = sph[n];
+        const double ex = spa[0] - spb[0], ey = spa[1] - spb[1], ez = spa[2] - spb[2];
+        const double lim = spa[3] + spb[3] + margin;
         if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+        const std::array<double, 6> &bb = aabb[n];
+        if (bb[0] > ahi[0] || bb[1] > ahi[1] || bb[2] > ahi[2] || bb[3] < alo[0] ||
+            bb[4] < alo[1] || bb[5] < alo[2])
+          continue;
+        const Seg &sb = sorted[n];
         if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
           add_pair(ao, sa.slot, sb.owner, sb.slot);
         if (!sb.cap) continue;
