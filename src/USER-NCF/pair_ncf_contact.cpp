@@ -638,8 +638,8 @@ void PairNCFContact::build_lists()
               0,
               0,
               0};
-      } else {    // partner missing: an error if the segment is needed
-        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
+      } else {    // partner missing: only its node is known (an error if that node is in reach)
+        sg = {{x[k][0], x[k][1], x[k][2]}, 0.0, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
       }
       if (interior && !capdone) {
         sg.cap = 1;
@@ -661,103 +661,109 @@ void PairNCFContact::build_lists()
                      (tagint) cnb[k][1]});
   }
   if (all.empty()) return;
-  for (const Seg &sg : all)
+  // half extents of the bounding box of every entry (the segment, or its node alone)
+  std::vector<std::array<double, 3>> ext(all.size());
+  double extmax[3] = {0.0, 0.0, 0.0};
+  for (size_t n = 0; n < all.size(); n++) {
+    const Seg &sg = all[n];
+    const int p = sg.slot >= 0 ? segp[2 * sg.owner + sg.slot] : -1;
     for (int d = 0; d < 3; d++) {
+      ext[n][d] = p >= 0 ? 0.5 * std::fabs(x[p][d] - x[sg.owner][d]) : 0.0;
+      extmax[d] = MAX(extmax[d], ext[n][d]);
       lo[d] = MIN(lo[d], sg.m[d]);
       hi[d] = MAX(hi[d], sg.m[d]);
     }
-  // two segments can only come within reach + skin if their midpoints are within
-  // (L_A + L_B)/2 + reach + skin <= lmax + reach + skin
-  const double R = lmax_used + reach_max + skin;
-  double bsize = 0.5 * R;
+  }
+  // two entries can only come within reach + skin if their box centres are within
+  // ext_A + ext_B + reach + skin in every direction: bins per direction of half that reach (in a
+  // layered mat the boxes are flat, so the search in z is short)
+  const double margin = reach_max + skin;
+  double reachd[3], bs[3];
+  for (int d = 0; d < 3; d++) {
+    reachd[d] = 2.0 * extmax[d] + margin;
+    bs[d] = 0.5 * reachd[d];
+  }
   int nb[3];
   for (;;) {
     double total = 1.0;
     for (int d = 0; d < 3; d++) {
-      nb[d] = (int) ((hi[d] - lo[d]) / bsize) + 1;
+      nb[d] = (int) ((hi[d] - lo[d]) / bs[d]) + 1;
       total *= nb[d];
     }
     if (total <= 8.0 * all.size() + 1000.0) break;
-    bsize *= 1.5;
+    for (int d = 0; d < 3; d++) bs[d] *= 1.5;
   }
-  const int reachb = (int) std::ceil(R / bsize);
-  auto binof = [&](const double *m) {
-    int c[3];
-    for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bsize));
-    return (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+  int reachb[3];
+  for (int d = 0; d < 3; d++) reachb[d] = (int) std::ceil(reachd[d] / bs[d]);
+  auto cellof = [&](const double *m, int *c) {
+    for (int d = 0; d < 3; d++) c[d] = MAX(0, MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bs[d])));
   };
   const int nbins = nb[0] * nb[1] * nb[2];
   std::vector<int> start(nbins + 1, 0);
   std::vector<int> bin(all.size());
-  for (size_t n = 0; n < all.size(); n++) start[(bin[n] = binof(all[n].m)) + 1]++;
+  for (size_t n = 0; n < all.size(); n++) {
+    int c[3];
+    cellof(all[n].m, c);
+    bin[n] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+    start[bin[n] + 1]++;
+  }
   for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
   std::vector<Seg> sorted(all.size());
+  // compact copies for the inner loop: bounding box (centre, half extents) and bounding sphere
+  // (centre, half length) of each entry
+  std::vector<std::array<double, 6>> box(all.size());
+  std::vector<double> halfl(all.size());
   {
     std::vector<int> fill(start.begin(), start.end() - 1);
-    for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
-  }
-  // compact copies for the inner loop: bounding sphere (midpoint, half length) and bounding box
-  // of each entry (the segment, or the node alone)
-  std::vector<std::array<double, 4>> sph(sorted.size());
-  std::vector<std::array<double, 6>> aabb(sorted.size());
-  for (size_t n = 0; n < sorted.size(); n++) {
-    const Seg &sg = sorted[n];
-    for (int d = 0; d < 3; d++) sph[n][d] = sg.m[d];
-    sph[n][3] = sg.half;
-    const int k = sg.owner;
-    const int p = sg.slot >= 0 ? segp[2 * k + sg.slot] : -1;
-    for (int d = 0; d < 3; d++) {
-      if (p >= 0) {
-        aabb[n][d] = MIN(x[k][d], x[p][d]);
-        aabb[n][3 + d] = MAX(x[k][d], x[p][d]);
-      } else if (sg.slot >= 0) {    // partner missing: anywhere within lmax of the node
-        aabb[n][d] = x[k][d] - lmax_used;
-        aabb[n][3 + d] = x[k][d] + lmax_used;
-      } else {
-        aabb[n][d] = aabb[n][3 + d] = x[k][d];
+    for (size_t n = 0; n < all.size(); n++) {
+      const int m = fill[bin[n]]++;
+      sorted[m] = all[n];
+      for (int d = 0; d < 3; d++) {
+        box[m][d] = all[n].m[d];
+        box[m][3 + d] = ext[n][d];
       }
+      halfl[m] = all[n].half;
     }
   }
-  // stencil of bin offsets whose nearest points are within R
-  std::vector<std::array<int, 3>> stencil;
-  for (int k = -reachb; k <= reachb; k++)
-    for (int j = -reachb; j <= reachb; j++)
-      for (int i = -reachb; i <= reachb; i++) {
-        const double gx = MAX(std::abs(i) - 1, 0), gy = MAX(std::abs(j) - 1, 0),
-                     gz = MAX(std::abs(k) - 1, 0);
-        if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
-      }
-  const double margin = reach_max + skin;
-  for (size_t na = 0; na < sorted.size(); na++) {
+  // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
+  // lists come out in that order, so that the positions, forces and history rows of a step are
+  // visited nearly in memory order
+  std::vector<int> owned_entries;
+  owned_entries.reserve(2 * (size_t) nlocal);
+  {
+    std::vector<int> where(2 * (size_t) nlocal, -1);
+    for (size_t n = 0; n < sorted.size(); n++)
+      if (sorted[n].owner < nlocal && sorted[n].slot >= 0)
+        where[2 * sorted[n].owner + sorted[n].slot] = (int) n;
+    for (int w : where)
+      if (w >= 0) owned_entries.push_back(w);
+  }
+  for (const int na : owned_entries) {
     const Seg &sa = sorted[na];
-    if (sa.owner >= nlocal || sa.slot < 0) continue;
     const int ao = sa.owner;
     const tagint ta = sa.tag, tpa = sa.ptag;
-    const std::array<double, 4> &spa = sph[na];
-    // A's bounding box grown by the largest reach + skin
-    double alo[3], ahi[3];
-    for (int d = 0; d < 3; d++) {
-      alo[d] = aabb[na][d] - margin;
-      ahi[d] = aabb[na][3 + d] + margin;
-    }
+    const std::array<double, 6> &ba = box[na];
+    const double ha = halfl[na];
     int c[3];
-    for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((sa.m[d] - lo[d]) / bsize));
-    for (const auto &o : stencil) {
-      const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
-      if (cx < 0 || cy < 0 || cz < 0 || cx >= nb[0] || cy >= nb[1] || cz >= nb[2]) continue;
-      const int q = (cz * nb[1] + cy) * nb[0] + cx;
-      for (int n = start[q]; n < start[q + 1]; n++) {
-        // supersets of both tests below (the owner node is an end of the segment): bounding
-        // spheres, then bounding boxes, within reach + skin
-        const std::array<double, 4> &spb = sph[n];
-        const double ex = spa[0] - spb[0], ey = spa[1] - spb[1], ez = spa[2] - spb[2];
-        const double lim = spa[3] + spb[3] + margin;
-        if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-        const std::array<double, 6> &bb = aabb[n];
-        if (bb[0] > ahi[0] || bb[1] > ahi[1] || bb[2] > ahi[2] || bb[3] < alo[0] ||
-            bb[4] < alo[1] || bb[5] < alo[2])
-          continue;
-        const Seg &sb = sorted[n];
+    cellof(sa.m, c);
+    const int z0 = MAX(0, c[2] - reachb[2]), z1 = MIN(nb[2] - 1, c[2] + reachb[2]);
+    const int y0 = MAX(0, c[1] - reachb[1]), y1 = MIN(nb[1] - 1, c[1] + reachb[1]);
+    const int x0 = MAX(0, c[0] - reachb[0]), x1 = MIN(nb[0] - 1, c[0] + reachb[0]);
+    for (int cz = z0; cz <= z1; cz++)
+      for (int cy = y0; cy <= y1; cy++) {
+        const int row = (cz * nb[1] + cy) * nb[0];
+        for (int n = start[row + x0]; n < start[row + x1 + 1]; n++) {
+          // supersets of both tests below (the owner node is an end of the segment): bounding
+          // boxes, then bounding spheres, within reach + skin
+          const std::array<double, 6> &bb = box[n];
+          if (std::fabs(ba[0] - bb[0]) > ba[3] + bb[3] + margin ||
+              std::fabs(ba[1] - bb[1]) > ba[4] + bb[4] + margin ||
+              std::fabs(ba[2] - bb[2]) > ba[5] + bb[5] + margin)
+            continue;
+          const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
+          const double lim = ha + halfl[n] + margin;
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          const Seg &sb = sorted[n];
         if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
           add_pair(ao, sa.slot, sb.owner, sb.slot);
         if (!sb.cap) continue;
@@ -778,15 +784,9 @@ void PairNCFContact::build_lists()
                      "present on this rank; communication cutoff too short",
                      tag[k], tag[ao], tag[ia]);
         clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
+        }
       }
-    }
   }
-  // in the order of the owned nodes (LAMMPS sorts them spatially): the positions, forces and
-  // history rows of a step are then visited nearly in memory order
-  std::stable_sort(plist.begin(), plist.end(),
-                   [](const PairCand &a, const PairCand &b) { return a.a0 < b.a0; });
-  std::stable_sort(clist.begin(), clist.end(),
-                   [](const CapCand &a, const CapCand &b) { return a.a0 < b.a0; });
 }
 
 /* ---------------------------------------------------------------------- */
