@@ -504,9 +504,11 @@ const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagin
 {
   const double *row = atom->darray[idx_hist][m];
   const int n = (int) row[0];
+  // tags are stored exactly as doubles: compare them as such
+  const double h = (double) ohi, l = (double) blo, b = (double) bhi;
   for (int k = 0; k < n && k < maxcontacts; k++) {
     const double *s = row + 1 + 6 * k;
-    if ((tagint) s[0] == ohi && (tagint) s[1] == blo && (tagint) s[2] == bhi) return s + 3;
+    if (s[0] == h && s[1] == l && s[2] == b) return s + 3;
   }
   return nullptr;
 }
@@ -819,9 +821,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     lists_nall = nall;
   }
   if (use_history) {
-    // only the contact counts need clearing: slots are written before they are read
-    if (hnew.size() < (size_t) nlocal * ncol) hnew.resize((size_t) nlocal * ncol);
-    for (int i = 0; i < nlocal; i++) hnew[(size_t) i * ncol] = 0.0;
+    // the new history of the step, compact: the contacts of one owned node are consecutive
+    // (the pair list is in the order of the owned nodes)
+    hcount.assign(nlocal, 0);
+    hfirst.resize(nlocal);
+    hbuf.clear();
   }
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
@@ -911,21 +915,19 @@ void PairNCFContact::compute(int eflag, int vflag)
         ftot += fr.force;
         espring = fr.energy;
         // store (also a zero slip: the contact exists)
-        double *hrow = &hnew[(size_t) ao * ncol];
-        const int nslot = (int) hrow[0];
+        const int nslot = hcount[ao];
         if (nslot >= maxcontacts)
           error->one(FLERR,
                      "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
                      "keyword maxcontacts",
                      tag[ao], maxcontacts);
-        double *slot = hrow + 1 + 6 * nslot;
-        slot[0] = (double) A.hi;
-        slot[1] = (double) B.lo;
-        slot[2] = (double) B.hi;
-        slot[3] = s.x;
-        slot[4] = s.y;
-        slot[5] = s.z;
-        hrow[0] = nslot + 1;
+        const int nstored = (int) (hbuf.size() / 6);
+        if (nslot == 0)
+          hfirst[ao] = nstored;
+        else if (hfirst[ao] + nslot != nstored)
+          error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
+        hbuf.insert(hbuf.end(), {(double) A.hi, (double) B.lo, (double) B.hi, s.x, s.y, s.z});
+        hcount[ao] = nslot + 1;
       }
       fa0 += (1.0 - xi) * ftot;
       fa1 += xi * ftot;
@@ -988,9 +990,11 @@ void PairNCFContact::compute(int eflag, int vflag)
   // the new history replaces the old one
   if (use_history) {
     double **hist = atom->darray[idx_hist];
-    for (int i = 0; i < nlocal; i++)
-      memcpy(hist[i], &hnew[(size_t) i * ncol],
-             sizeof(double) * (1 + 6 * (int) hnew[(size_t) i * ncol]));
+    for (int i = 0; i < nlocal; i++) {
+      const int n = hcount[i];
+      hist[i][0] = n;
+      if (n > 0) memcpy(hist[i] + 1, &hbuf[6 * (size_t) hfirst[i]], sizeof(double) * 6 * n);
+    }
   }
 
   if (fatom_flag) {

@@ -77,7 +77,8 @@ class PairNCFContact : public Pair {
   // per-step work arrays
   std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
   std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
-  std::vector<double> hnew;      // new history rows of owned atoms
+  std::vector<double> hbuf;      // new history of the step: 6 values per contact
+  std::vector<int> hfirst, hcount;    // per owned atom: its first contact in hbuf, and count
   std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
