@@ -257,6 +257,17 @@ namespace {
   }
 }    // namespace
 
+namespace {
+  // the value of W alone (as in weight_of)
+  inline double weight_value(double s, double lb, double e)
+  {
+    const double inv2e = 0.5 / e;
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
+    const double w = wa <= wb ? wa : wb;
+    return w >= 1.0 ? 1.0 : (w <= 0.0 ? 0.0 : w);
+  }
+}    // namespace
+
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
                          const Vec3 &q, double dc, double kn, double ramp)
 {
@@ -300,11 +311,8 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
     for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
   // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
   auto deficit = [&](double xi) {
-    const Vec3 x = a0 + xi * da;
     const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-    const Weight w1 = weight_of(s1, l1, e, e1, x - p - s1 * e1);
-    const Weight w2 = weight_of(s2, l2, e, e2, x - n - s2 * e2);
-    return 1.0 - w1.w - w2.w - DEFICIT_TOL;
+    return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
   };
   double pts[48];
   int np = 0;
