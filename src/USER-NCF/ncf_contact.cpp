@@ -109,8 +109,8 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
   // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
   // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
-  double C0 = 0.0, C1 = 0.0, C2 = 0.0;    // sum c, c xi, c xi^2
-  double P0 = 0.0, L0 = 0.0;              // sum p; sum om W
+  double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
+  double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
   double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
   double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
   const double inv2dc = 0.5 / dc, invdc = 1.0 / dc;
@@ -168,8 +168,8 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
   // eb - r/lb for the ramp at B1) and through la
   const double K = kn * la;
-  const Vec3 cr_sum = C0 * r0 + C1 * r1;            // sum c r
-  const Vec3 cxr_sum = C1 * r0 + C2 * r1;           // sum c xi r
+  const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
+  const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
   const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
   const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
   const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1

@@ -67,8 +67,8 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact
 // law is zero there, since its weight vanishes beyond the extended segment and h vanishes beyond
 // dc. True does not mean that the contact is active.
-inline bool segment_contact_possible(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0,
-                                     const Vec3 &b1, double dc, double ramp)
+inline bool segment_contact_possible(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                                     double dc, double ramp)
 {
   const Vec3 u = b1 - b0;
   const double lb2 = norm2(u);

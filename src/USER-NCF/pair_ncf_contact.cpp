@@ -414,8 +414,8 @@ void PairNCFContact::init_style()
   // also the owners of the segments next to B along its chain (+ lmax)
   double dmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
-  const double need = dmax * (1.0 + ramp_frac) + neighbor->skin +
-      (use_history ? 3.0 : 2.0) * lmax_used;
+  const double need =
+      dmax * (1.0 + ramp_frac) + neighbor->skin + (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
       utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
@@ -766,26 +766,26 @@ void PairNCFContact::build_lists()
           const double lim = ha + halfl[n] + margin;
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
           const Seg &sb = sorted[n];
-        if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
-          add_pair(ao, sa.slot, sb.owner, sb.slot);
-        if (!sb.cap) continue;
-        // node cap of the owner of entry sb: interior nodes of other chains (or far along this
-        // one) near segment A
-        if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
-            sb.tq == tpa)
-          continue;
-        const int k = sb.owner, ia = segp[2 * ao + sa.slot];
-        const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
-        const NCF::ClosestPoints cp =
-            NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
-        if (cp.dist2 >= dcap * dcap) continue;
-        const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
-        if (kp < 0 || kq < 0)
-          error->one(FLERR,
-                     "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
-                     "present on this rank; communication cutoff too short",
-                     tag[k], tag[ao], tag[ia]);
-        clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
+          if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
+            add_pair(ao, sa.slot, sb.owner, sb.slot);
+          if (!sb.cap) continue;
+          // node cap of the owner of entry sb: interior nodes of other chains (or far along this
+          // one) near segment A
+          if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
+              sb.tq == tpa)
+            continue;
+          const int k = sb.owner, ia = segp[2 * ao + sa.slot];
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          const NCF::ClosestPoints cp =
+              NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
+          if (cp.dist2 >= dcap * dcap) continue;
+          const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+          if (kp < 0 || kq < 0)
+            error->one(FLERR,
+                       "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                       "present on this rank; communication cutoff too short",
+                       tag[k], tag[ao], tag[ia]);
+          clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
         }
       }
   }
@@ -877,9 +877,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (pc.d + dmove2x >= dc &&
         !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
       continue;
-    const NCF::SegmentContact c =
-        NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype], ramp_frac * dc,
-                             eflag_global != 0);
+    const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
+                                                       ramp_frac * dc, eflag_global != 0);
     if (!c.active) continue;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];

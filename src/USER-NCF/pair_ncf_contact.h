@@ -75,11 +75,11 @@ class PairNCFContact : public Pair {
   int comm_mode;
 
   // per-step work arrays
-  std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
-  std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
-  std::vector<double> hbuf;      // new history of the step: 6 values per contact
+  std::vector<int> segp;       // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<int> nbr;        // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
+  std::vector<double> hbuf;    // new history of the step: 6 values per contact
   std::vector<int> hfirst, hcount;    // per owned atom: its first contact in hbuf, and count
-  std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
+  std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
@@ -87,9 +87,9 @@ class PairNCFContact : public Pair {
     double d;              // distance of the two segments at the build
   };
   struct CapCand {
-    int a0, a1;    // segment A (a0 owned)
-    int p, n, q;   // interior node n and its chain neighbours
-    double d;      // distance of segment A from node n at the build
+    int a0, a1;     // segment A (a0 owned)
+    int p, n, q;    // interior node n and its chain neighbours
+    double d;       // distance of segment A from node n at the build
   };
   std::vector<double> xbuild;    // positions of all local and ghost atoms at the build
   std::vector<PairCand> plist;

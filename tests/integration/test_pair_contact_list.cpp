@@ -76,8 +76,8 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
       for (int m : pnq) excluded = excluded || m == A.a0 || m == A.a1;
       if (excluded) continue;
       const NCF::Vec3 sh = image(a0, P(pnq[1]));
-      const auto c = NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc,
-                                       kn, e);
+      const auto c =
+          NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc, kn, e);
       if (!c.active) continue;
       out.caps++;
       out.energy += c.energy;
