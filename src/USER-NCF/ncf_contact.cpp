@@ -49,14 +49,15 @@ namespace {
 }    // namespace
 
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                               double dc, double kn, double ramp)
+                               double dc, double kn, double ramp, bool with_penetration)
 {
   SegmentContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
   const Vec3 da = a1 - a0, u = b1 - b0;
   const double la = norm(da), lb = norm(u);
   if (!(la > MIN_LENGTH * dc) || !(lb > MIN_LENGTH * dc)) return out;
-  const Vec3 ea = (1.0 / la) * da, eb = (1.0 / lb) * u;
+  const double inv_lb = 1.0 / lb;
+  const Vec3 ea = (1.0 / la) * da, eb = inv_lb * u;
 
   // along A: s(xi) = s0 + s1 xi (arc position on B's line), r(xi) = r0 + xi r1 (offset from it)
   const Vec3 w0 = a0 - b0;
@@ -81,28 +82,38 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   }
   if (!(hi > lo)) return out;
 
-  // break points of the piecewise polynomial integrand: ramp corners of W
-  double brk[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
+  // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
+  // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
+  double brk[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
   int nb = 0;
   brk[nb++] = lo;
   if (std::fabs(s1) > 1e-14 * la) {
-    const double corners[5] = {-e, e, lb - e, lb + e, 0.5 * lb};
-    for (double sc : corners) {
-      const double x = (sc - s0) / s1;
+    const double inv_s1 = 1.0 / s1;
+    const double corners[3] = {e, lb - e, 0.5 * lb};
+    const int ncorner = lb < 2.0 * e ? 3 : 2;
+    for (int k = 0; k < ncorner; k++) {
+      const double x = (corners[k] - s0) * inv_s1;
       if (x > lo && x < hi) brk[nb++] = x;
     }
   }
   brk[nb++] = hi;
-  for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
+  for (int a = 1; a < nb; a++)    // insertion sort of at most 5 values
     for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
 
   static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
   static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   const double inv2e = 0.5 / e;
 
-  Vec3 g[4];    // dE/dx of A0, A1, B0, B1
-  Vec3 fres;    // resultant normal force on A
-  double energy = 0.0, length = 0.0, msum = 0.0, mxi = 0.0, ms = 0.0;
+  // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
+  // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
+  // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
+  // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
+  double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
+  double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
+  double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
+  double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
+  const double inv2dc = 0.5 / dc, invdc = 1.0 / dc;
 
   for (int k = 0; k + 1 < nb; k++) {
     const double half = 0.5 * (brk[k + 1] - brk[k]);
@@ -112,65 +123,74 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       const double xi = mid + half * gx[q];
       const double om = half * gw[q];
       const double s = s0 + s1 * xi;
-      const Vec3 r = r0 + xi * r1;
-      double h = (d2 - norm2(r)) / (2.0 * dc);
+      const double r2 = norm2(r0 + xi * r1);
+      double h = (d2 - r2) * inv2dc;
       if (h < 0.0) h = 0.0;
-      // weight and the gradient of its active ramp variable
+      // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
       const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-      double w, wd = 0.0;
-      Vec3 gp, gb0, gb1;    // d(sigma)/d(p, B0, B1) of the active ramp variable
-      const Vec3 rl = (1.0 / lb) * r;
-      if (wa <= wb) {
-        w = wa;
-        gp = eb;
-        gb0 = -eb - rl;
-        gb1 = rl;
-      } else {
-        w = wb;
-        gp = -eb;
-        gb0 = rl;
-        gb1 = eb - rl;
-      }
+      const bool ramp_a = wa <= wb;
+      double w = ramp_a ? wa : wb;
+      bool inramp = false;
       if (w >= 1.0) {
         w = 1.0;
       } else if (w <= 0.0) {
-        w = 0.0;
+        continue;
       } else {
-        wd = inv2e;
+        inramp = true;
       }
-      if (w <= 0.0 && wd == 0.0) continue;
-      const double t = s / lb;
       const double hh = 0.5 * h * h;
-      energy += om * kn * la * hh * w;
-      length += om * la * w;
-      // dE/dx
-      const Vec3 dpart = kn * la * (-(h * w / dc) * r + (hh * wd) * gp);    // through p
-      const Vec3 lpart = (om * kn * hh * w) * ea;                           // through la
-      g[0] += om * (1.0 - xi) * dpart - lpart;
-      g[1] += om * xi * dpart + lpart;
-      g[2] += (om * kn * la) * (((1.0 - t) * h * w / dc) * r + (hh * wd) * gb0);
-      g[3] += (om * kn * la) * ((t * h * w / dc) * r + (hh * wd) * gb1);
-      // normal resultant and its centroid
-      const Vec3 fq = (om * kn * la * h * w / dc) * r;
-      fres += fq;
-      const double m = norm(fq);
-      msum += m;
-      mxi += m * xi;
-      ms += m * s;
+      L0 += om * w;
+      P0 += om * hh * w;
+      const double c = om * h * w * invdc;
+      C0 += c;
+      C1 += c * xi;
+      C2 += c * xi * xi;
+      if (inramp) {
+        const double qv = om * hh * inv2e;
+        if (ramp_a) {
+          QA0 += qv;
+          QA1 += qv * xi;
+        } else {
+          QB0 += qv;
+          QB1 += qv * xi;
+        }
+      }
+      const double cr = c * std::sqrt(r2);
+      M0 += cr;
+      M1 += cr * xi;
+      MS += cr * s;
     }
   }
+  const double energy = kn * la * P0, length = la * L0;
   if (!(energy > 0.0) && !(length > 0.0)) return out;
+
+  // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
+  // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
+  // eb - r/lb for the ramp at B1) and through la
+  const double K = kn * la;
+  const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
+  const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
+  const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
+  const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
+  const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
+  const Vec3 lpart = (kn * P0) * ea;
+  Vec3 g[4];
+  g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
+  g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
+  g[2] = K * ((cr_sum - ctr_sum) - QA0 * eb - qa_rl + qb_rl);
+  g[3] = K * (ctr_sum + qa_rl + QB0 * eb - qb_rl);
+  const Vec3 fres = K * cr_sum;    // resultant normal force on A
 
   out.active = true;
   out.energy = energy;
   for (int n = 0; n < 4; n++) out.f[n] = -g[n];
   out.length = length;
-  if (msum > 0.0) {
-    out.xi = mxi / msum;
-    out.t = clamp01(ms / msum / lb);
+  if (M0 > 0.0) {
+    out.xi = M1 / M0;
+    out.t = clamp01(MS / M0 * inv_lb);
   } else {
     out.xi = 0.5 * (lo + hi);
-    out.t = clamp01((s0 + s1 * out.xi) / lb);
+    out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
   }
   // normal direction: the offset from B's line of the point of A's line closest to it (the
   // common perpendicular of the two lines), that point being kept within one contact distance
@@ -193,8 +213,10 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
     out.normal = (1.0 / fr) * fres;
     out.fn = fr;
   }
-  const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
-  out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  if (with_penetration) {
+    const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
+    out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  }
   return out;
 }
 
@@ -232,6 +254,17 @@ namespace {
       out.wd = inv2e;
     }
     return out;
+  }
+}    // namespace
+
+namespace {
+  // the value of W alone (as in weight_of)
+  inline double weight_value(double s, double lb, double e)
+  {
+    const double inv2e = 0.5 / e;
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
+    const double w = wa <= wb ? wa : wb;
+    return w >= 1.0 ? 1.0 : (w <= 0.0 ? 0.0 : w);
   }
 }    // namespace
 
@@ -278,23 +311,26 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
     for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
   // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
   auto deficit = [&](double xi) {
-    const Vec3 x = a0 + xi * da;
     const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-    const Weight w1 = weight_of(s1, l1, e, e1, x - p - s1 * e1);
-    const Weight w2 = weight_of(s2, l2, e, e2, x - n - s2 * e2);
-    return 1.0 - w1.w - w2.w - DEFICIT_TOL;
+    return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
   };
   double pts[48];
   int np = 0;
+  double fa = deficit(brk[0]), defmax = fa;
   for (int k = 0; k + 1 < nb; k++) {
     pts[np++] = brk[k];
-    const double fa = deficit(brk[k]), fb = deficit(brk[k + 1]);
+    const double fb = deficit(brk[k + 1]);
+    defmax = std::max(defmax, fb);
     if ((fa > 0.0 && fb < 0.0) || (fa < 0.0 && fb > 0.0)) {
       const double x = brk[k] + (brk[k + 1] - brk[k]) * fa / (fa - fb);
       if (x > brk[k] && x < brk[k + 1]) pts[np++] = x;
     }
+    fa = fb;
   }
   pts[np++] = brk[nb - 1];
+  // the deficit is linear between the break points: no deficit at any of them (a straight or
+  // nearly straight chain, or A on the concave side), no cap
+  if (!(defmax > 0.0)) return out;
 
   // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
   static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,

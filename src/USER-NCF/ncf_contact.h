@@ -57,9 +57,25 @@ struct SegmentContact {
 // Segments shorter than MIN_LENGTH * D carry no contact (their neighbours do): the weight W
 // depends on B's direction, so the force on a very short B grows like 1/L_B; below this length
 // the contact is dropped instead. Never NaN.
+// with_penetration false: `penetration` is left 0 (it costs a closest-point search and is only
+// an output); everything else is the same.
 constexpr double MIN_LENGTH = 1e-3;
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                               double dc, double kn, double ramp);
+                               double dc, double kn, double ramp, bool with_penetration = true);
+
+// Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
+// extended by the ramp half-width at both ends (closest points of the two segments); the contact
+// law is zero there, since its weight vanishes beyond the extended segment and h vanishes beyond
+// dc. True does not mean that the contact is active.
+inline bool segment_contact_possible(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                                     double dc, double ramp)
+{
+  const Vec3 u = b1 - b0;
+  const double lb2 = norm2(u);
+  if (!(lb2 > 0.0)) return true;    // degenerate: let segment_contact decide
+  const Vec3 ext = (ramp / std::sqrt(lb2)) * u;
+  return closest_points_segments(a0, a1, b0 - ext, b1 + ext).dist2 < dc * dc;
+}
 
 // Contact of segment A (a0-a1) with the interior node n of another chain (neighbours p and q on
 // that chain), filling the part of the node's sphere (radius D around n) that the ramps of the

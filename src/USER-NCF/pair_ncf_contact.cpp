@@ -3,10 +3,11 @@
 
    How each segment pair is visited exactly once:
    - a segment (bond i-j of a chain) is owned by its lower-tag node;
-   - a half neighbour list of nodes without newton (cutoff D + 2 lmax + e) holds every pair of
-     owner nodes whose segments can touch: a pair of owned nodes once, a pair of an owned and a
-     ghost node on each of the two ranks;
-   - the pair (A owned by i, B owned by j) is computed only where key(A) < key(B), key = (lower
+   - when LAMMPS reneighbours, a cell list of the midpoints of all segments known to the rank
+     (owned and ghost, periodic images included) gives the candidate pairs; a pair is listed when
+     the two segments are within D (1 + ramp) + skin, so the list stays complete until the next
+     reneighbouring (no node moves more than skin/2 in between); the node caps likewise;
+   - the pair (A owned by i, B owned by j) is listed only where key(A) < key(B), key = (lower
      tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
    - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
    The friction history of the pair lives with A's owner node (a fix property/atom array), so it
@@ -31,6 +32,7 @@
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -82,6 +84,9 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   idx_cnb = idx_hist = idx_fc = -1;
   ncol = 1 + 6 * maxcontacts;
   comm_mode = COMM_HIST;
+  lists_valid = false;
+  lists_ncalls = -1;
+  lists_nlocal = lists_nall = -1;
   nextra = 4;
   pvector = new double[nextra];
   for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
@@ -379,6 +384,7 @@ void PairNCFContact::init_style()
   comm_forward = use_history ? ncol : 0;
   comm_reverse = fatom_flag ? 3 : 0;
 
+  lists_valid = false;
   create_stores();
   fill_topology();
   find_lmax();
@@ -402,12 +408,14 @@ void PairNCFContact::init_style()
 
   // no neighbour list: candidate pairs come from a cell list of segment midpoints (compute)
 
-  // the ghost shell must hold the partner node of every ghost owner in the list (+ lmax) and,
-  // for the friction history, the owners of the neighbouring segments (+ 2 lmax)
+  // the ghost shell must hold both nodes of every segment B within reach + skin of an owned
+  // segment A: A reaches lmax beyond the sub-domain, B another lmax beyond A's reach + skin
+  // (2 lmax + reach + skin, which is also LAMMPS's own cutforce + skin); for the friction history
+  // also the owners of the segments next to B along its chain (+ lmax)
   double dmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
-  const double need = dmax * (1.0 + ramp_frac) + 2.0 * lmax_used + neighbor->skin +
-      (use_history ? 2.0 : 1.0) * lmax_used;
+  const double need =
+      dmax * (1.0 + ramp_frac) + neighbor->skin + (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
       utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
@@ -453,7 +461,6 @@ void PairNCFContact::set_segments()
   double **x = atom->x;
   segp.assign(2 * (size_t) nall, -1);
   nbr.assign(2 * (size_t) nall, -1);
-  segbox.resize(8 * (size_t) nall);
   for (int k = 0; k < nall; k++)
     for (int s = 0; s < 2; s++) {
       const tagint p = (tagint) cnb[k][s];
@@ -469,14 +476,6 @@ void PairNCFContact::set_segments()
       nbr[2 * k + s] = q;
       if (p <= tag[k]) continue;
       segp[2 * k + s] = q;
-      if (q < 0) continue;
-      // bounding sphere of the segment: centre and radius (half length)
-      double *b = &segbox[8 * (size_t) k + 4 * s];
-      const double dx = x[q][0] - x[k][0], dy = x[q][1] - x[k][1], dz = x[q][2] - x[k][2];
-      b[0] = x[k][0] + 0.5 * dx;
-      b[1] = x[k][1] + 0.5 * dy;
-      b[2] = x[k][2] + 0.5 * dz;
-      b[3] = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
     }
 }
 
@@ -497,11 +496,19 @@ const double *PairNCFContact::find_slip(tagint owner, tagint ohi, tagint blo, ta
 {
   const int m = atom->map(owner);
   if (m < 0) return nullptr;
+  return find_slip_row(m, ohi, blo, bhi);
+}
+
+// the same in the history row of the atom with index m (the owner node)
+const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
+{
   const double *row = atom->darray[idx_hist][m];
   const int n = (int) row[0];
+  // tags are stored exactly as doubles: compare them as such
+  const double h = (double) ohi, l = (double) blo, b = (double) bhi;
   for (int k = 0; k < n && k < maxcontacts; k++) {
     const double *s = row + 1 + 6 * k;
-    if ((tagint) s[0] == ohi && (tagint) s[1] == blo && (tagint) s[2] == bhi) return s + 3;
+    if (s[0] == h && s[1] == l && s[2] == b) return s + 3;
   }
   return nullptr;
 }
@@ -538,192 +545,69 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
   return false;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   candidate lists, rebuilt only when LAMMPS reneighbours (ghosts and atom indices change only
+   then). Between two builds no node moves more than skin/2 (the distance check of LAMMPS, which
+   also accounts for a changing box), so the distance of two segments (or of a segment and a
+   node) changes by less than the skin: a pair farther apart than its reach plus the skin at the
+   build cannot come into contact before the next build.
+   Candidates come from a cell list of segment midpoints (local and ghost segments, periodic
+   images included); a segment pair is kept when the distance of the two segments is below
+   D (1 + ramp) + skin (the law is zero unless A comes within D of B extended by the ramps), a
+   node cap when the distance of the segment from the node is below D + skin.
+------------------------------------------------------------------------- */
 
-void PairNCFContact::compute(int eflag, int vflag)
+void PairNCFContact::build_lists()
 {
-  ev_init(eflag, vflag);
-
-  double **x = atom->x;
-  double **v = atom->v;
-  double **f = atom->f;
-  const int *type = atom->type;
-  const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
-  const double dt = update->dt;
+  double **x = atom->x;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const double skin = neighbor->skin;
 
-  if (use_history) {
-    comm_mode = COMM_HIST;
-    comm->forward_comm(this);
-  }
   set_segments();
-  if (use_history) {
-    // only the contact counts need clearing: slots are written before they are read
-    if (hnew.size() < (size_t) nlocal * ncol) hnew.resize((size_t) nlocal * ncol);
-    for (int i = 0; i < nlocal; i++) hnew[(size_t) i * ncol] = 0.0;
-  }
-  if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
+  plist.clear();
+  clist.clear();
+  xbuild.resize(3 * (size_t) nall);
+  for (int k = 0; k < nall; k++)
+    for (int d = 0; d < 3; d++) xbuild[3 * (size_t) k + d] = x[k][d];
 
-  double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
-
-  // every owned segment within the length the cutoffs were sized for
+  // every owned segment has its partner here
   for (int i = 0; i < nlocal; i++)
-    for (int sa = 0; sa < 2; sa++) {
-      const int ia = segp[2 * i + sa];
-      if (ia == -1) continue;
-      if (ia == -2)
+    for (int sa = 0; sa < 2; sa++)
+      if (segp[2 * i + sa] == -2)
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
-      if (segbox[8 * (size_t) i + 4 * sa + 3] * 2.0 > lmax_used)
-        error->one(FLERR,
-                   "pair ncf/contact: segment {}-{} is {:.6g} long, longer than lmax {:.6g} that "
-                   "the cutoffs were sized for; set pair_style keyword lmax",
-                   tag[i], tag[ia], 2.0 * segbox[8 * (size_t) i + 4 * sa + 3], lmax_used);
-    }
 
-  // contact of segment slot sa of node ao (owned here) with slot sb of node bo, key(A) < key(B)
-  auto segment_pair = [&](int ao, int sa, int bo, int sb) {
+  // segment pair (slot sa of owned node ao, slot sb of node bo), key(A) < key(B) checked by the
+  // caller: kept if the two segments are within reach + skin
+  auto add_pair = [&](int ao, int sa, int bo, int sb) {
     const int ia = segp[2 * ao + sa];
     const int jb = segp[2 * bo + sb];
-    const double *ba = &segbox[8 * (size_t) ao + 4 * sa];
-    const int itype = type[ao], jtype = type[bo];
-    if (jb >= 0) {
-      // bounding spheres of the two segments (+ contact distance and ramps) apart: skip
-      const double *bb = &segbox[8 * (size_t) bo + 4 * sb];
-      const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
-      const double lim = ba[3] + bb[3] + reachf[itype][jtype];
-      if (ex * ex + ey * ey + ez * ez > lim * lim) return;
+    const double lim = reachf[type[ao]][type[bo]] + skin;
+    if (jb == -2) {
+      // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the
+      // sub-domain), so no point of B is within reach + skin of A (A reaches at most lmax beyond
+      // the sub-domain, B is at most lmax long). An error if B's own end node is that close:
+      // then the shell is too short for this pair.
+      const NCF::ClosestPoints cp =
+          NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[bo]));
+      if (cp.dist2 < lim * lim)
+        error->one(FLERR,
+                   "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                   "present on this rank; communication cutoff too short",
+                   tag[bo], tag[ao]);
+      return;
     }
-    const SegKey A{tag[ao], tag[ia]};
-    if (jb == -2)
-      error->one(FLERR,
-                 "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
-                 "present on this rank; communication cutoff too short",
-                 tag[bo], tag[ao]);
-    const SegKey B{tag[bo], tag[jb]};
+    const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
     if (share_node(A, B)) return;
-    const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
-    {
-      // cheap exact test: the contact law is zero unless A comes within dc of B extended by the
-      // ramps at both ends
-      const Vec3 b0(x[bo]), b1(x[jb]);
-      const double lb = 2.0 * segbox[8 * (size_t) bo + 4 * sb + 3];
-      if (lb > 0.0) {
-        const Vec3 ext = (ramp_frac * dc / lb) * (b1 - b0);
-        const NCF::ClosestPoints cp =
-            NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), b0 - ext, b1 + ext);
-        if (cp.dist2 >= dc * dc) return;
-      }
-    }
-    const NCF::SegmentContact c = NCF::segment_contact(
-        Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]), dc, kn[itype][jtype], ramp_frac * dc);
-    if (!c.active) return;
-
-    Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
-    double espring = 0.0;
-    if (use_velocity && c.fn > 0.0) {
-      const double xi = c.xi, t = c.t;
-      const Vec3 vrel = ((1.0 - xi) * Vec3(v[ao]) + xi * Vec3(v[ia])) -
-          ((1.0 - t) * Vec3(v[bo]) + t * Vec3(v[jb]));
-      Vec3 ftot;
-      double fn = c.fn;
-      if (damp[itype][jtype] > 0.0) {
-        // normal dashpot per unit contact length, never pulling the chains together
-        double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
-        if (fd < -fn) fd = -fn;
-        fn += fd;
-        ftot += fd * c.normal;
-      }
-      const double m = mu[itype][jtype];
-      if (m > 0.0) {
-        double slip[3] = {0.0, 0.0, 0.0};
-        const double *old = find_slip(A.lo, A.hi, B.lo, B.hi);
-        if (old) {
-          slip[0] = old[0];
-          slip[1] = old[1];
-          slip[2] = old[2];
-        } else {
-          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
-        }
-        Vec3 s(slip);
-        const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
-        const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
-        ftot += fr.force;
-        espring = fr.energy;
-        // store (also a zero slip: the contact exists)
-        double *hrow = &hnew[(size_t) ao * ncol];
-        const int nslot = (int) hrow[0];
-        if (nslot >= maxcontacts)
-          error->one(FLERR,
-                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
-                     "keyword maxcontacts",
-                     tag[ao], maxcontacts);
-        double *slot = hrow + 1 + 6 * nslot;
-        slot[0] = (double) A.hi;
-        slot[1] = (double) B.lo;
-        slot[2] = (double) B.hi;
-        slot[3] = s.x;
-        slot[4] = s.y;
-        slot[5] = s.z;
-        hrow[0] = nslot + 1;
-      }
-      fa0 += (1.0 - xi) * ftot;
-      fa1 += xi * ftot;
-      fb0 -= (1.0 - t) * ftot;
-      fb1 -= t * ftot;
-    }
-    const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
-    const int nodes[4] = {ao, ia, bo, jb};
-    for (int k = 0; k < 4; k++) {
-      f[nodes[k]][0] += fs[k]->x;
-      f[nodes[k]][1] += fs[k]->y;
-      f[nodes[k]][2] += fs[k]->z;
-      if (fatom_flag) {
-        fcon[3 * nodes[k] + 0] += fs[k]->x;
-        fcon[3 * nodes[k] + 1] += fs[k]->y;
-        fcon[3 * nodes[k] + 2] += fs[k]->z;
-      }
-    }
-    if (eflag_global) eng_vdwl += c.energy + espring;
-    ncontact += 1.0;
-    pensum += c.penetration;
-    penmax = MAX(penmax, c.penetration);
+    const NCF::ClosestPoints cp =
+        NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
+    if (cp.dist2 >= lim * lim) return;
+    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2)});
   };
 
-  // cap contact of segment slot sa of node ao (owned here) with the interior node k
-  auto node_pair = [&](int ao, int sa, int k) {
-    const int ia = segp[2 * ao + sa];
-    const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
-    if (kp < 0 || kq < 0)
-      error->one(FLERR,
-                 "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
-                 "present on this rank; communication cutoff too short",
-                 tag[k], tag[ao], tag[ia]);
-    const int itype = type[ao], ktype = type[k];
-    const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
-    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
-                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
-    if (!c.active) return;
-    const int ids[5] = {ao, ia, kp, k, kq};
-    for (int m = 0; m < 5; m++) {
-      f[ids[m]][0] += c.f[m].x;
-      f[ids[m]][1] += c.f[m].y;
-      f[ids[m]][2] += c.f[m].z;
-      if (fatom_flag) {
-        fcon[3 * ids[m] + 0] += c.f[m].x;
-        fcon[3 * ids[m] + 1] += c.f[m].y;
-        fcon[3 * ids[m] + 2] += c.f[m].z;
-      }
-    }
-    if (eflag_global) eng_vdwl += c.energy;
-    ncap += 1.0;
-    penmax = MAX(penmax, c.penetration);
-  };
-
-  // candidate pairs from a cell list of segment midpoints (local and ghost segments, periodic
-  // images included): two segments can only touch if their midpoints are within
-  // (L_A + L_B)/2 + D (1 + ramp) <= lmax + reach of each other
   // one entry per segment (owner node, slot) and, folded into the first segment entry of its
   // node, the node cap of every interior node (nodes owning no segment get an entry of their own)
   struct Seg {
@@ -746,10 +630,18 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (p == -1) continue;
       Seg sg;
       if (p >= 0) {
-        const double *bx = &segbox[8 * (size_t) k + 4 * sl];
-        sg = {{bx[0], bx[1], bx[2]}, bx[3], tag[k], tag[p], k, sl, 0, 0, 0};
-      } else {    // partner missing: an error if the segment is needed
-        sg = {{x[k][0], x[k][1], x[k][2]}, lmax_used, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
+        const double dx = x[p][0] - x[k][0], dy = x[p][1] - x[k][1], dz = x[p][2] - x[k][2];
+        sg = {{x[k][0] + 0.5 * dx, x[k][1] + 0.5 * dy, x[k][2] + 0.5 * dz},
+              0.5 * std::sqrt(dx * dx + dy * dy + dz * dz),
+              tag[k],
+              tag[p],
+              k,
+              sl,
+              0,
+              0,
+              0};
+      } else {    // partner missing: only its node is known (an error if that node is in reach)
+        sg = {{x[k][0], x[k][1], x[k][2]}, 0.0, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
       }
       if (interior && !capdone) {
         sg.cap = 1;
@@ -770,96 +662,338 @@ void PairNCFContact::compute(int eflag, int vflag)
                      (tagint) cnb[k][0],
                      (tagint) cnb[k][1]});
   }
-  for (const Seg &sg : all)
+  if (all.empty()) return;
+  // half extents of the bounding box of every entry (the segment, or its node alone)
+  std::vector<std::array<double, 3>> ext(all.size());
+  double extmax[3] = {0.0, 0.0, 0.0};
+  for (size_t n = 0; n < all.size(); n++) {
+    const Seg &sg = all[n];
+    const int p = sg.slot >= 0 ? segp[2 * sg.owner + sg.slot] : -1;
     for (int d = 0; d < 3; d++) {
+      ext[n][d] = p >= 0 ? 0.5 * std::fabs(x[p][d] - x[sg.owner][d]) : 0.0;
+      extmax[d] = MAX(extmax[d], ext[n][d]);
       lo[d] = MIN(lo[d], sg.m[d]);
       hi[d] = MAX(hi[d], sg.m[d]);
     }
-  const double R = lmax_used + reach_max;
-  if (!all.empty()) {
-    double bsize = 0.5 * R;
-    int nb[3];
-    for (;;) {
-      double total = 1.0;
+  }
+  // two entries can only come within reach + skin if their box centres are within
+  // ext_A + ext_B + reach + skin in every direction: bins per direction of half that reach (in a
+  // layered mat the boxes are flat, so the search in z is short)
+  const double margin = reach_max + skin;
+  double reachd[3], bs[3];
+  for (int d = 0; d < 3; d++) {
+    reachd[d] = 2.0 * extmax[d] + margin;
+    bs[d] = 0.5 * reachd[d];
+  }
+  int nb[3];
+  for (;;) {
+    double total = 1.0;
+    for (int d = 0; d < 3; d++) {
+      nb[d] = (int) ((hi[d] - lo[d]) / bs[d]) + 1;
+      total *= nb[d];
+    }
+    if (total <= 8.0 * all.size() + 1000.0) break;
+    for (int d = 0; d < 3; d++) bs[d] *= 1.5;
+  }
+  int reachb[3];
+  for (int d = 0; d < 3; d++) reachb[d] = (int) std::ceil(reachd[d] / bs[d]);
+  auto cellof = [&](const double *m, int *c) {
+    for (int d = 0; d < 3; d++) c[d] = MAX(0, MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bs[d])));
+  };
+  const int nbins = nb[0] * nb[1] * nb[2];
+  std::vector<int> start(nbins + 1, 0);
+  std::vector<int> bin(all.size());
+  for (size_t n = 0; n < all.size(); n++) {
+    int c[3];
+    cellof(all[n].m, c);
+    bin[n] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+    start[bin[n] + 1]++;
+  }
+  for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
+  std::vector<Seg> sorted(all.size());
+  // compact copies for the inner loop: bounding box (centre, half extents) and bounding sphere
+  // (centre, half length) of each entry
+  std::vector<std::array<double, 6>> box(all.size());
+  std::vector<double> halfl(all.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (size_t n = 0; n < all.size(); n++) {
+      const int m = fill[bin[n]]++;
+      sorted[m] = all[n];
       for (int d = 0; d < 3; d++) {
-        nb[d] = (int) ((hi[d] - lo[d]) / bsize) + 1;
-        total *= nb[d];
+        box[m][d] = all[n].m[d];
+        box[m][3 + d] = ext[n][d];
       }
-      if (total <= 8.0 * all.size() + 1000.0) break;
-      bsize *= 1.5;
+      halfl[m] = all[n].half;
     }
-    const int reachb = (int) std::ceil(R / bsize);
-    auto binof = [&](const double *m) {
-      int c[3];
-      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bsize));
-      return (c[2] * nb[1] + c[1]) * nb[0] + c[0];
-    };
-    const int nbins = nb[0] * nb[1] * nb[2];
-    std::vector<int> start(nbins + 1, 0);
-    std::vector<int> bin(all.size());
-    for (size_t n = 0; n < all.size(); n++) start[(bin[n] = binof(all[n].m)) + 1]++;
-    for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
-    std::vector<Seg> sorted(all.size());
-    {
-      std::vector<int> fill(start.begin(), start.end() - 1);
-      for (size_t n = 0; n < all.size(); n++) sorted[fill[bin[n]]++] = all[n];
-    }
-    // stencil of bin offsets whose nearest points are within R
-    std::vector<std::array<int, 3>> stencil;
-    for (int k = -reachb; k <= reachb; k++)
-      for (int j = -reachb; j <= reachb; j++)
-        for (int i = -reachb; i <= reachb; i++) {
-          const double gx = MAX(std::abs(i) - 1, 0), gy = MAX(std::abs(j) - 1, 0),
-                       gz = MAX(std::abs(k) - 1, 0);
-          if ((gx * gx + gy * gy + gz * gz) * bsize * bsize <= R * R) stencil.push_back({i, j, k});
-        }
-    for (const Seg &sa : sorted) {
-      if (sa.owner >= nlocal || sa.slot < 0) continue;
-      const int ao = sa.owner;
-      const tagint ta = sa.tag, tpa = sa.ptag;
-      int c[3];
-      for (int d = 0; d < 3; d++) c[d] = MIN(nb[d] - 1, (int) ((sa.m[d] - lo[d]) / bsize));
-      for (const auto &o : stencil) {
-        const int cx = c[0] + o[0], cy = c[1] + o[1], cz = c[2] + o[2];
-        if (cx < 0 || cy < 0 || cz < 0 || cx >= nb[0] || cy >= nb[1] || cz >= nb[2]) continue;
-        const int q = (cz * nb[1] + cy) * nb[0] + cx;
-        for (int n = start[q]; n < start[q + 1]; n++) {
-          const Seg &sb = sorted[n];
-          // a superset of both tests below: the owner node is an end of the segment
-          const double ex = sa.m[0] - sb.m[0], ey = sa.m[1] - sb.m[1], ez = sa.m[2] - sb.m[2];
-          const double lim = sa.half + sb.half + reach_max;
+  }
+  // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
+  // lists come out in that order, so that the positions, forces and history rows of a step are
+  // visited nearly in memory order
+  std::vector<int> owned_entries;
+  owned_entries.reserve(2 * (size_t) nlocal);
+  {
+    std::vector<int> where(2 * (size_t) nlocal, -1);
+    for (size_t n = 0; n < sorted.size(); n++)
+      if (sorted[n].owner < nlocal && sorted[n].slot >= 0)
+        where[2 * sorted[n].owner + sorted[n].slot] = (int) n;
+    for (int w : where)
+      if (w >= 0) owned_entries.push_back(w);
+  }
+  for (const int na : owned_entries) {
+    const Seg &sa = sorted[na];
+    const int ao = sa.owner;
+    const tagint ta = sa.tag, tpa = sa.ptag;
+    const std::array<double, 6> &ba = box[na];
+    const double ha = halfl[na];
+    int c[3];
+    cellof(sa.m, c);
+    const int z0 = MAX(0, c[2] - reachb[2]), z1 = MIN(nb[2] - 1, c[2] + reachb[2]);
+    const int y0 = MAX(0, c[1] - reachb[1]), y1 = MIN(nb[1] - 1, c[1] + reachb[1]);
+    const int x0 = MAX(0, c[0] - reachb[0]), x1 = MIN(nb[0] - 1, c[0] + reachb[0]);
+    for (int cz = z0; cz <= z1; cz++)
+      for (int cy = y0; cy <= y1; cy++) {
+        const int row = (cz * nb[1] + cy) * nb[0];
+        for (int n = start[row + x0]; n < start[row + x1 + 1]; n++) {
+          // supersets of both tests below (the owner node is an end of the segment): bounding
+          // boxes, then bounding spheres, within reach + skin
+          const std::array<double, 6> &bb = box[n];
+          if (std::fabs(ba[0] - bb[0]) > ba[3] + bb[3] + margin ||
+              std::fabs(ba[1] - bb[1]) > ba[4] + bb[4] + margin ||
+              std::fabs(ba[2] - bb[2]) > ba[5] + bb[5] + margin)
+            continue;
+          const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
+          const double lim = ha + halfl[n] + margin;
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          const Seg &sb = sorted[n];
           if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
-            segment_pair(ao, sa.slot, sb.owner, sb.slot);
+            add_pair(ao, sa.slot, sb.owner, sb.slot);
           if (!sb.cap) continue;
-          // node cap of the owner of entry sb: interior nodes of other chains (or far along
-          // this one) near segment A
+          // node cap of the owner of entry sb: interior nodes of other chains (or far along this
+          // one) near segment A
           if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
               sb.tq == tpa)
             continue;
-          const double *xn = x[sb.owner];
-          const double *a0 = x[ao], *a1 = x[segp[2 * ao + sa.slot]];
-          const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
-          const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
-          const double uu = ux * ux + uy * uy + uz * uz;
-          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
-          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
-          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[sb.owner]]);
-          // the cap acts only where A comes within D of the node
-          if (px * px + py * py + pz * pz >= dcap * dcap) continue;
-          node_pair(ao, sa.slot, sb.owner);
+          const int k = sb.owner, ia = segp[2 * ao + sa.slot];
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          const NCF::ClosestPoints cp =
+              NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
+          if (cp.dist2 >= dcap * dcap) continue;
+          const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+          if (kp < 0 || kq < 0)
+            error->one(FLERR,
+                       "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                       "present on this rank; communication cutoff too short",
+                       tag[k], tag[ao], tag[ia]);
+          clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
         }
       }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairNCFContact::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const double dt = update->dt;
+
+  if (use_history) {
+    comm_mode = COMM_HIST;
+    comm->forward_comm(this);
+  }
+  // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
+  // exchanged or sorted) and after every init
+  if (!lists_valid || neighbor->ago == 0 || neighbor->ncalls != lists_ncalls ||
+      nlocal != lists_nlocal || nall != lists_nall) {
+    build_lists();
+    lists_valid = true;
+    lists_ncalls = neighbor->ncalls;
+    lists_nlocal = nlocal;
+    lists_nall = nall;
+  }
+  if (use_history) {
+    // the new history of the step, compact: the contacts of one owned node are consecutive
+    // (the pair list is in the order of the owned nodes)
+    hcount.assign(nlocal, 0);
+    hfirst.resize(nlocal);
+    hbuf.clear();
+  }
+  if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
+
+  double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
+
+  // largest displacement of any local or ghost node since the build (below skin/2): the distance
+  // of two segments, or of a segment and a node, has changed by at most twice that, so a listed
+  // pair whose distance at the build minus 2 dmove is beyond its reach needs no test this step,
+  // and one within D minus 2 dmove needs no prefilter
+  double dmove2 = 0.0;
+  for (int k = 0; k < nall; k++) {
+    const double *xb = &xbuild[3 * (size_t) k];
+    const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
+    dmove2 = MAX(dmove2, dx * dx + dy * dy + dz * dz);
+    // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
+    // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
+    if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
+      error->one(FLERR,
+                 "pair ncf/contact: a node moved {:.6g} since the last reneighbouring, more than "
+                 "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
+                 "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
+                 std::sqrt(dmove2), neighbor->skin);
+  }
+  // (relative margin for the round-off of the distances)
+  const double dmove2x = 2.0 * std::sqrt(dmove2) * (1.0 + 1e-12) + 1e-12 * reach_max;
+
+  // every owned segment within the length the cutoffs were sized for
+  const double lmax2 = lmax_used * lmax_used;
+  for (int i = 0; i < nlocal; i++)
+    for (int sa = 0; sa < 2; sa++) {
+      const int ia = segp[2 * i + sa];
+      if (ia < 0) continue;
+      const double dx = x[ia][0] - x[i][0], dy = x[ia][1] - x[i][1], dz = x[ia][2] - x[i][2];
+      const double l2 = dx * dx + dy * dy + dz * dz;
+      if (l2 > lmax2)
+        error->one(FLERR,
+                   "pair ncf/contact: segment {}-{} is {:.6g} long, longer than lmax {:.6g} that "
+                   "the cutoffs were sized for; set pair_style keyword lmax",
+                   tag[i], tag[ia], std::sqrt(l2), lmax_used);
     }
+
+  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B)
+  for (const PairCand &pc : plist) {
+    const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
+    const int itype = type[ao], jtype = type[bo];
+    if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
+    const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
+    const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
+    if (pc.d + dmove2x >= dc &&
+        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
+      continue;
+    const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
+                                                       ramp_frac * dc, eflag_global != 0);
+    if (!c.active) continue;
+
+    Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
+    double espring = 0.0;
+    if (use_velocity && c.fn > 0.0) {
+      const double xi = c.xi, t = c.t;
+      const Vec3 vrel = ((1.0 - xi) * Vec3(v[ao]) + xi * Vec3(v[ia])) -
+          ((1.0 - t) * Vec3(v[bo]) + t * Vec3(v[jb]));
+      Vec3 ftot;
+      double fn = c.fn;
+      if (damp[itype][jtype] > 0.0) {
+        // normal dashpot per unit contact length, never pulling the chains together
+        double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
+        if (fd < -fn) fd = -fn;
+        fn += fd;
+        ftot += fd * c.normal;
+      }
+      const double m = mu[itype][jtype];
+      if (m > 0.0) {
+        const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
+        double slip[3] = {0.0, 0.0, 0.0};
+        const double *old = find_slip_row(ao, A.hi, B.lo, B.hi);
+        if (old) {
+          slip[0] = old[0];
+          slip[1] = old[1];
+          slip[2] = old[2];
+        } else {
+          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
+        }
+        Vec3 s(slip);
+        const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
+        const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
+        ftot += fr.force;
+        espring = fr.energy;
+        // store (also a zero slip: the contact exists)
+        const int nslot = hcount[ao];
+        if (nslot >= maxcontacts)
+          error->one(FLERR,
+                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
+                     "keyword maxcontacts",
+                     tag[ao], maxcontacts);
+        const int nstored = (int) (hbuf.size() / 6);
+        if (nslot == 0)
+          hfirst[ao] = nstored;
+        else if (hfirst[ao] + nslot != nstored)
+          error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
+        hbuf.insert(hbuf.end(), {(double) A.hi, (double) B.lo, (double) B.hi, s.x, s.y, s.z});
+        hcount[ao] = nslot + 1;
+      }
+      fa0 += (1.0 - xi) * ftot;
+      fa1 += xi * ftot;
+      fb0 -= (1.0 - t) * ftot;
+      fb1 -= t * ftot;
+    }
+    const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
+    const int nodes[4] = {ao, ia, bo, jb};
+    for (int k = 0; k < 4; k++) {
+      f[nodes[k]][0] += fs[k]->x;
+      f[nodes[k]][1] += fs[k]->y;
+      f[nodes[k]][2] += fs[k]->z;
+      if (fatom_flag) {
+        fcon[3 * nodes[k] + 0] += fs[k]->x;
+        fcon[3 * nodes[k] + 1] += fs[k]->y;
+        fcon[3 * nodes[k] + 2] += fs[k]->z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy + espring;
+    ncontact += 1.0;
+    pensum += c.penetration;
+    penmax = MAX(penmax, c.penetration);
+  }
+
+  // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
+  for (const CapCand &cc : clist) {
+    const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
+    const int itype = type[ao], ktype = type[k];
+    const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
+    if (cc.d - dmove2x >= dc) continue;
+    // the cap acts only where A comes within D of the node
+    const double *xn = x[k];
+    const double *a0 = x[ao], *a1 = x[ia];
+    const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+    const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
+    const double uu = ux * ux + uy * uy + uz * uz;
+    double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
+    if (px * px + py * py + pz * pz >= dc * dc) continue;
+    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
+                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
+    if (!c.active) continue;
+    const int ids[5] = {ao, ia, kp, k, kq};
+    for (int m = 0; m < 5; m++) {
+      f[ids[m]][0] += c.f[m].x;
+      f[ids[m]][1] += c.f[m].y;
+      f[ids[m]][2] += c.f[m].z;
+      if (fatom_flag) {
+        fcon[3 * ids[m] + 0] += c.f[m].x;
+        fcon[3 * ids[m] + 1] += c.f[m].y;
+        fcon[3 * ids[m] + 2] += c.f[m].z;
+      }
+    }
+    if (eflag_global) eng_vdwl += c.energy;
+    ncap += 1.0;
+    penmax = MAX(penmax, c.penetration);
   }
 
   // the new history replaces the old one
   if (use_history) {
     double **hist = atom->darray[idx_hist];
-    for (int i = 0; i < nlocal; i++)
-      memcpy(hist[i], &hnew[(size_t) i * ncol],
-             sizeof(double) * (1 + 6 * (int) hnew[(size_t) i * ncol]));
+    for (int i = 0; i < nlocal; i++) {
+      const int n = hcount[i];
+      hist[i][0] = n;
+      if (n > 0) memcpy(hist[i] + 1, &hbuf[6 * (size_t) hfirst[i]], sizeof(double) * 6 * n);
+    }
   }
 
   if (fatom_flag) {

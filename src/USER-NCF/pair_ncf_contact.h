@@ -75,18 +75,37 @@ class PairNCFContact : public Pair {
   int comm_mode;
 
   // per-step work arrays
-  std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
-  std::vector<double> segbox;    // per local+ghost atom, 2 slots: centre and half length
-  std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
-  std::vector<double> hnew;      // new history rows of owned atoms
-  std::vector<double> fcon;      // per local+ghost atom contact force (3), for fatom
+  std::vector<int> segp;       // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<int> nbr;        // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
+  std::vector<double> hbuf;    // new history of the step: 6 values per contact
+  std::vector<int> hfirst, hcount;    // per owned atom: its first contact in hbuf, and count
+  std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
+
+  // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
+  struct PairCand {
+    int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
+    double d;              // distance of the two segments at the build
+  };
+  struct CapCand {
+    int a0, a1;     // segment A (a0 owned)
+    int p, n, q;    // interior node n and its chain neighbours
+    double d;       // distance of segment A from node n at the build
+  };
+  std::vector<double> xbuild;    // positions of all local and ghost atoms at the build
+  std::vector<PairCand> plist;
+  std::vector<CapCand> clist;
+  bool lists_valid;
+  bigint lists_ncalls;
+  int lists_nlocal, lists_nall;
 
   void allocate();
+  void build_lists();
   void create_stores();
   void fill_topology();
   void find_lmax();
   void set_segments();
   const double *find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const;
+  const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
   bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
 };

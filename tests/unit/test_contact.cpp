@@ -265,6 +265,41 @@ TEST(Contact, NearlyParallelRootsAreStable)
   }
 }
 
+TEST(Contact, PrefilterNeverDropsAnActiveContact)
+{
+  // segment_contact_possible is false only where segment_contact is inactive: random segment
+  // pairs around the contact distance (crossing, oblique, nearly and exactly parallel, end to
+  // end, short segments), and the prefilter rejects most of the far ones
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto rvec = [&](double s) {
+    return Vec3(s * u(rng), s * u(rng), s * u(rng));
+  };
+  int active = 0, rejected = 0, kept_inactive = 0;
+  for (int k = 0; k < 200000; k++) {
+    const double la = 2e-4 * (0.05 + std::fabs(u(rng))), lb = 2e-4 * (0.05 + std::fabs(u(rng)));
+    Vec3 ea = rvec(1.0), eb = rvec(1.0);
+    if (k % 4 == 1) eb = ea + rvec(1e-3);    // nearly parallel
+    if (k % 4 == 2) eb = ea;                 // exactly parallel
+    ea = (1.0 / NCF::norm(ea)) * ea;
+    eb = (1.0 / NCF::norm(eb)) * eb;
+    const Vec3 a0 = rvec(1e-4), a1 = a0 + la * ea;
+    const Vec3 b0 = rvec(1.5e-4), b1 = b0 + lb * eb;
+    const bool possible = NCF::segment_contact_possible(a0, a1, b0, b1, D, RAMP);
+    const auto c = segment_contact(a0, a1, b0, b1, D, KN, RAMP);
+    if (c.active) {
+      active++;
+      EXPECT_TRUE(possible) << "k " << k;
+    } else if (!possible) {
+      rejected++;
+    } else {
+      kept_inactive++;
+    }
+  }
+  EXPECT_GT(active, 10000);
+  EXPECT_GT(rejected, 10 * kept_inactive);
+}
+
 TEST(Friction, StickBelowCapSlideAtCap)
 {
   Vec3 slip;
