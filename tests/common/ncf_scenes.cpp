@@ -6,6 +6,12 @@
 
 #include "ncf_lammps_test.h"
 
+#include "comm.h"
+#include "lammps.h"
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -106,6 +112,43 @@ Mat mat_files(const std::string &dir, bool ring)
   mat.path = dir + (ring ? "/ring.data" : "/mat.data");
   mat.masses = dir + (ring ? "/ring_masses.in" : "/masses.in");
   return mat;
+}
+
+std::vector<RankRun> mat_on_1_2_4_ranks(const std::string &dir, unsigned seed,
+                                        const std::string &commands, const std::string &expression)
+{
+  if (world_rank() == 0) write_mat(dir, 3.0, seed, false, 12, 3, 16);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const Mat mat = mat_files(dir);
+  std::vector<RankRun> runs;
+  for (int n : {1, 2, 4}) {
+    RankRun r;
+    on_ranks(n, [&](MPI_Comm comm) {
+      Lammps l(comm);
+      load_mat(l, mat);
+      r.nprocs = l.lmp->comm->nprocs;
+      r.x0 = l.positions();
+      l.cmds(commands);
+      r.x = l.positions();
+      if (!expression.empty()) r.value = l.value(expression);
+    });
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+void expect_same_on_ranks(const std::vector<RankRun> &r, double moved, double tol, const char *what)
+{
+  if (world_rank() != 0) return;
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[0].nprocs, 1);
+  EXPECT_EQ(r[1].nprocs, 2);
+  EXPECT_EQ(r[2].nprocs, 4);
+  EXPECT_GT(max_abs_diff(r[0].x, r[0].x0), moved) << what << ": the scene must move";
+  const double d2 = max_abs_diff(r[0].x, r[1].x), d4 = max_abs_diff(r[0].x, r[2].x);
+  std::printf("[measured] %s: max |x1 - x2| = %.3g m, max |x1 - x4| = %.3g m\n", what, d2, d4);
+  EXPECT_LE(d2, tol) << what;
+  EXPECT_LE(d4, tol) << what;
 }
 
 }    // namespace ncftest

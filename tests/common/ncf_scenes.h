@@ -36,6 +36,22 @@ void load_mat(Lammps &l, const Mat &mat);
 // The same scene for every rank count: the data file names of a mat written by rank 0 into dir.
 Mat mat_files(const std::string &dir, bool ring = false);
 
+// The same mat scene on 1, 2 and 4 ranks (the mpi tests): rank 0 writes the mat into dir, every
+// sub-communicator loads it, runs `commands` and reports the positions before and after and the
+// value of `expression` at the end. Results are valid on world rank 0.
+struct RankRun {
+  int nprocs = 0;
+  double value = 0.0;
+  std::vector<double> x0, x;
+};
+std::vector<RankRun> mat_on_1_2_4_ranks(const std::string &dir, unsigned seed,
+                                        const std::string &commands, const std::string &expression);
+
+// Checks on world rank 0 that the runs used 1, 2 and 4 ranks, that the scene moved by more than
+// `moved` and that 2 and 4 ranks agree with 1 rank to `tol` (absolute, m); prints the differences
+void expect_same_on_ranks(const std::vector<RankRun> &r, double moved, double tol,
+                          const char *what);
+
 }    // namespace ncftest
 
 #endif
