@@ -48,8 +48,10 @@ namespace {
 
 }    // namespace
 
-SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                               double dc, double kn, double ramp, bool with_penetration)
+namespace {
+SegmentContact contact_of_segments(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                                   double dc, double kn, double ramp, bool with_penetration,
+                                   double core)
 {
   SegmentContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
@@ -64,10 +66,10 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   const double s0 = dot(w0, eb), s1 = dot(da, eb);
   const Vec3 r0 = w0 - s0 * eb, r1 = da - s1 * eb;
   const double d2 = dc * dc;
+  const double qa_ = norm2(r1), qb_ = 2.0 * dot(r0, r1), qc_ = norm2(r0);
 
   double lo, hi;
-  if (!negative_interval(norm2(r1), 2.0 * dot(r0, r1), norm2(r0) - d2, 1e-28 * la * la, lo, hi))
-    return out;
+  if (!negative_interval(qa_, qb_, qc_ - d2, 1e-28 * la * la, lo, hi)) return out;
   lo = std::max(lo, 0.0);
   hi = std::min(hi, 1.0);
   // where the weight W(s) is non-zero: -e < s < lb + e
@@ -85,9 +87,19 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
   // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
   // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
-  double brk[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  double brk[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   int nb = 0;
   brk[nb++] = lo;
+  // the core's boundary r = D_c is a break point as well
+  const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
+  const bool with_core = core > 0.0;
+  if (with_core) {
+    double clo, chi;
+    if (negative_interval(qa_, qb_, qc_ - dcc2, 1e-28 * la * la, clo, chi)) {
+      if (clo > lo && clo < hi) brk[nb++] = clo;
+      if (chi > lo && chi < hi) brk[nb++] = chi;
+    }
+  }
   if (std::fabs(s1) > 1e-14 * la) {
     const double inv_s1 = 1.0 / s1;
     const double corners[3] = {e, lb - e, 0.5 * lb};
@@ -98,7 +110,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
     }
   }
   brk[nb++] = hi;
-  for (int a = 1; a < nb; a++)    // insertion sort of at most 5 values
+  for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
     for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
 
   static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
@@ -113,7 +125,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
   double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
   double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
-  const double inv2dc = 0.5 / dc, invdc = 1.0 / dc;
+  const double inv2dc = 0.5 / dc, invdc = 1.0 / dc, inv2dcc = 0.5 / dcc, invdcc = 1.0 / dcc;
 
   for (int k = 0; k + 1 < nb; k++) {
     const double half = 0.5 * (brk[k + 1] - brk[k]);
@@ -126,6 +138,13 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       const double r2 = norm2(r0 + xi * r1);
       double h = (d2 - r2) * inv2dc;
       if (h < 0.0) h = 0.0;
+      // energy density hh = h^2/2 (+ kappa h_c^2/2) and its slope -d(hh)/d(r^2) * 2 = hd
+      double hh = 0.5 * h * h, hd = h * invdc;
+      if (with_core && r2 < dcc2) {
+        const double hc = (dcc2 - r2) * inv2dcc;
+        hh += 0.5 * core * hc * hc;
+        hd += core * hc * invdcc;
+      }
       // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
       const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
       const bool ramp_a = wa <= wb;
@@ -138,10 +157,9 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
       } else {
         inramp = true;
       }
-      const double hh = 0.5 * h * h;
       L0 += om * w;
       P0 += om * hh * w;
-      const double c = om * h * w * invdc;
+      const double c = om * hd * w;
       C0 += c;
       C1 += c * xi;
       C2 += c * xi * xi;
@@ -220,6 +238,45 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   return out;
 }
 
+// forces on the extended end points q0 = p0 - e0 u, q1 = p1 + e1 u (u = unit axis p0 -> p1)
+// mapped back to p0, p1 (chain rule; the sum of the two forces is unchanged); the contact point
+// parameter likewise
+void unextend(const Vec3 &p0, const Vec3 &p1, double e0, double e1, Vec3 &f0, Vec3 &f1,
+              double &param)
+{
+  const Vec3 u = p1 - p0;
+  const double l = norm(u);
+  if (!(l > 0.0)) return;
+  const Vec3 eu = (1.0 / l) * u;
+  // d(q_k)/d(p1) = [k] + (t_k / l) (I - eu eu^T), t_0 = -e0, t_1 = e1; d(q_k)/d(p0) the rest
+  const Vec3 g = (e1 / l) * f1 - (e0 / l) * f0;
+  const Vec3 gp = g - dot(g, eu) * eu;
+  const Vec3 ftot = f0 + f1;
+  f1 += gp;
+  f0 = ftot - f1;
+  const double lq = l + e0 + e1;
+  param = (param * lq - e0) / l;
+}
+}    // namespace
+
+SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                               double dc, double kn, double ramp, bool with_penetration,
+                               const ContactOptions &opt)
+{
+  const double *e = opt.ext;
+  if (e[0] == 0.0 && e[1] == 0.0 && e[2] == 0.0 && e[3] == 0.0)
+    return contact_of_segments(a0, a1, b0, b1, dc, kn, ramp, with_penetration, opt.core);
+  Vec3 qa0 = a0, qa1 = a1, qb0 = b0, qb1 = b1;
+  extend_segment(qa0, qa1, e[0], e[1]);
+  extend_segment(qb0, qb1, e[2], e[3]);
+  SegmentContact out =
+      contact_of_segments(qa0, qa1, qb0, qb1, dc, kn, ramp, with_penetration, opt.core);
+  if (!out.active) return out;
+  unextend(a0, a1, e[0], e[1], out.f[0], out.f[1], out.xi);
+  unextend(b0, b1, e[2], e[3], out.f[2], out.f[3], out.t);
+  return out;
+}
+
 namespace {
   constexpr double DEFICIT_TOL = 1e-9;
   // weight W of a segment (start b0, unit direction eb, length lb) at arc position s, and the
@@ -269,7 +326,7 @@ namespace {
 }    // namespace
 
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
-                         const Vec3 &q, double dc, double kn, double ramp)
+                         const Vec3 &q, double dc, double kn, double ramp, double core)
 {
   NodeContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
@@ -292,9 +349,19 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
   const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
-  double brk[24];
+  double brk[26];
   int nb = 0;
   brk[nb++] = lo;
+  const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
+  const bool with_core = core > 0.0;
+  if (with_core) {    // the core's boundary |x - n| = D_c
+    double clo, chi;
+    if (negative_interval(norm2(da), 2.0 * dot(w0, da), norm2(w0) - dcc2, 1e-28 * la * la, clo,
+                          chi)) {
+      if (clo > lo && clo < hi) brk[nb++] = clo;
+      if (chi > lo && chi < hi) brk[nb++] = chi;
+    }
+  }
   const double c1[5] = {-e, e, l1 - e, l1 + e, 0.5 * l1}, c2[5] = {-e, e, l2 - e, l2 + e, 0.5 * l2};
   for (int k = 0; k < 5; k++) {
     if (std::fabs(s11) > 1e-14 * la) {
@@ -314,7 +381,7 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
     const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
     return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
   };
-  double pts[48];
+  double pts[52];
   int np = 0;
   double fa = deficit(brk[0]), defmax = fa;
   for (int k = 0; k + 1 < nb; k++) {
@@ -354,19 +421,27 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
       const double def = 1.0 - w1.w - w2.w - DEFICIT_TOL;    // round-off of straight chains
       if (def <= 0.0) continue;
       const Vec3 rn = x - n;
-      double h = (d2 - norm2(rn)) / (2.0 * dc);
+      const double rr = norm2(rn);
+      double h = (d2 - rr) / (2.0 * dc);
       if (h <= 0.0) continue;
+      // energy density hh (+ the core) and hd = -2 d(hh)/d(r^2)
+      double hh = 0.5 * h * h, hd = h / dc;
+      if (with_core && rr < dcc2) {
+        const double hc = (dcc2 - rr) / (2.0 * dcc);
+        hh += 0.5 * core * hc * hc;
+        hd += core * hc / dcc;
+      }
       // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
       // through straight (the deficit grows like the kink angle)
-      const double hh = 0.5 * h * h, dd = def * def, ddp = 2.0 * def * hh;
+      const double dd = def * def, ddp = 2.0 * def * hh;
       energy += om * kn * la * hh * dd;
       // dE/d(x): through h (x and n), through the deficit (x, p, n, q), through la (a0, a1)
-      const Vec3 gxp = kn * la * ((-(h * dd) / dc) * rn - ddp * (w1.wd * w1.gx + w2.wd * w2.gx));
+      const Vec3 gxp = kn * la * ((-(hd * dd)) * rn - ddp * (w1.wd * w1.gx + w2.wd * w2.gx));
       const Vec3 lpart = (om * kn * hh * dd) * ea;
       g[0] += om * (1.0 - xi) * gxp - lpart;
       g[1] += om * xi * gxp + lpart;
       g[2] += (om * kn * la) * (-ddp * w1.wd * w1.gb0);
-      g[3] += (om * kn * la) * (((h * dd) / dc) * rn - ddp * (w1.wd * w1.gb1 + w2.wd * w2.gb0));
+      g[3] += (om * kn * la) * ((hd * dd) * rn - ddp * (w1.wd * w1.gb1 + w2.wd * w2.gb0));
       g[4] += (om * kn * la) * (-ddp * w2.wd * w2.gb1);
     }
   }

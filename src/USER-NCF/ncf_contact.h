@@ -38,6 +38,26 @@
 
 namespace NCF {
 
+// Options of the law beyond its three parameters (D, k_n, ramp); the defaults give the plain law.
+//
+// core: stiffness factor kappa of a stiff core. For r < D_c = CORE_FRACTION * D the energy
+//   density gains the same term with D_c and kappa k_n:  (kappa k_n / 2) W h_c^2,
+//   h_c = (D_c^2 - r^2) / (2 D_c). D_c = D / sqrt(3) is where the plain law's force per length
+//   k_n h r / D peaks (0.19 k_n D at a penetration of 0.42 D): up to there nothing changes,
+//   beyond it the force keeps rising instead of falling; with kappa = 10 it peaks at 1.26 k_n D
+//   (penetration 0.66 D). This guards against chains pushed through each other where local loads
+//   exceed the plain law's maximum; the force stays continuous (h_c starts with zero slope).
+// ext: extension [m] of each segment beyond its nodes a0, a1, b0, b1 (0: none). A free chain end
+//   (a node with one bond) is covered only half by the weight ramp and not at all beyond it;
+//   extending the end segment along its own axis by ext covers it like an end cap. The extended
+//   segment's contact is computed and its node forces are mapped back to the real nodes by the
+//   chain rule (exact: force = -dE/dx, force and moment balance kept).
+constexpr double CORE_FRACTION = 0.57735026918962576;    // 1 / sqrt(3)
+struct ContactOptions {
+  double core = 0.0;
+  double ext[4] = {0.0, 0.0, 0.0, 0.0};
+};
+
 struct SegmentContact {
   bool active = false;         // true if any part of A penetrates B's cylinder (within W > 0)
   double energy = 0.0;         // E [J]
@@ -46,7 +66,8 @@ struct SegmentContact {
   Vec3 normal;                 // unit normal: from B's line to the point of A in contact closest to
                                // it; the direction of the resultant where the axes touch
   double xi = 0.0;             // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
-  double t = 0.0;              // contact point on B: B0 + t (B1 - B0), in [0, 1]
+  double t = 0.0;              // contact point on B: B0 + t (B1 - B0), in [0, 1] (with
+                               // extensions: in [-ext_b0 / L_B, 1 + ext_b1 / L_B])
   double length = 0.0;         // contact length l_c = integral of W over the penetrated part [m]
   double penetration = 0.0;    // D - (distance of the closest points of the two segments) [m]
 };
@@ -61,20 +82,37 @@ struct SegmentContact {
 // an output); everything else is the same.
 constexpr double MIN_LENGTH = 1e-3;
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                               double dc, double kn, double ramp, bool with_penetration = true);
+                               double dc, double kn, double ramp, bool with_penetration = true,
+                               const ContactOptions &opt = ContactOptions());
+
+// the end points of segment p0-p1 extended by e0 beyond p0 and e1 beyond p1 along its axis
+inline void extend_segment(Vec3 &p0, Vec3 &p1, double e0, double e1)
+{
+  if (e0 == 0.0 && e1 == 0.0) return;
+  const Vec3 u = p1 - p0;
+  const double l = norm(u);
+  if (!(l > 0.0)) return;
+  const Vec3 eu = (1.0 / l) * u;
+  p0 -= e0 * eu;
+  p1 += e1 * eu;
+}
 
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact
 // law is zero there, since its weight vanishes beyond the extended segment and h vanishes beyond
 // dc. True does not mean that the contact is active.
-inline bool segment_contact_possible(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                                     double dc, double ramp)
+inline bool segment_contact_possible(Vec3 a0, Vec3 a1, Vec3 b0, Vec3 b1, double dc, double ramp,
+                                     const double *ext = nullptr)
 {
+  if (ext) {
+    extend_segment(a0, a1, ext[0], ext[1]);
+    extend_segment(b0, b1, ext[2], ext[3]);
+  }
   const Vec3 u = b1 - b0;
   const double lb2 = norm2(u);
   if (!(lb2 > 0.0)) return true;    // degenerate: let segment_contact decide
-  const Vec3 ext = (ramp / std::sqrt(lb2)) * u;
-  return closest_points_segments(a0, a1, b0 - ext, b1 + ext).dist2 < dc * dc;
+  const Vec3 bext = (ramp / std::sqrt(lb2)) * u;
+  return closest_points_segments(a0, a1, b0 - bext, b1 + bext).dist2 < dc * dc;
 }
 
 // Contact of segment A (a0-a1) with the interior node n of another chain (neighbours p and q on
@@ -94,8 +132,9 @@ struct NodeContact {
   Vec3 f[5];
   double penetration = 0.0;    // D - distance of segment A from n [m]
 };
+// core: as ContactOptions::core (the same stiff core around the node, radius CORE_FRACTION D).
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
-                         const Vec3 &q, double dc, double kn, double ramp);
+                         const Vec3 &q, double dc, double kn, double ramp, double core = 0.0);
 
 // One step of the Coulomb slip spring.
 //   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)

@@ -71,6 +71,8 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   one_coeff = 0;
   manybody_flag = 0;
   ramp_frac = 0.25;
+  core = 10.0;
+  endcap_frac = 0.5;
   lmax_user = 0.0;
   maxcontacts = 24;
   fatom_flag = 0;
@@ -131,7 +133,8 @@ void PairNCFContact::allocate()
 }
 
 /* ----------------------------------------------------------------------
-   pair_style ncf/contact [ramp f] [lmax L] [maxcontacts N] [fatom yes|no]
+   pair_style ncf/contact [ramp f] [core kappa] [endcap f] [lmax L] [maxcontacts N] [fatom yes|no]
+                          [dtcheck error|warn|no]
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::settings(int narg, char **arg)
@@ -145,6 +148,14 @@ void PairNCFContact::settings(int narg, char **arg)
       ramp_frac = utils::numeric(FLERR, val, false, lmp);
       if (!(ramp_frac > 0.0) || ramp_frac > 1.0)
         error->all(FLERR, "pair_style ncf/contact: ramp {} out of range (0, 1]", val);
+    } else if (key == "core") {
+      core = utils::numeric(FLERR, val, false, lmp);
+      if (!(core >= 0.0) || core > 1000.0)
+        error->all(FLERR, "pair_style ncf/contact: core {} out of range [0, 1000]", val);
+    } else if (key == "endcap") {
+      endcap_frac = utils::numeric(FLERR, val, false, lmp);
+      if (!(endcap_frac >= 0.0) || endcap_frac > 2.0)
+        error->all(FLERR, "pair_style ncf/contact: endcap {} out of range [0, 2]", val);
     } else if (key == "lmax") {
       lmax_user = utils::numeric(FLERR, val, false, lmp);
       if (lmax_user < 0.0) error->all(FLERR, "pair_style ncf/contact: lmax {} must be >= 0", val);
@@ -415,7 +426,8 @@ void PairNCFContact::init_style()
   double dmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
   const double need =
-      dmax * (1.0 + ramp_frac) + neighbor->skin + (use_history ? 3.0 : 2.0) * lmax_used;
+      dmax * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
+      (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
       utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
@@ -441,9 +453,11 @@ double PairNCFContact::init_one(int i, int j)
   mu[j][i] = mu[i][j];
   damp[j][i] = damp[i][j];
   const double dc = 0.5 * (diameter[i] + diameter[j]);
-  cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac) + 2.0 * lmax_used;
+  cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac + 4.0 * endcap_frac) + 2.0 * lmax_used;
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
-  reach_max = MAX(reach_max, reachf[i][j]);
+  // the bins must find pairs of extended free-end segments as well
+  // (a segment of two free ends is extended at both: up to 2 endcap (d_i + d_j) in all)
+  reach_max = MAX(reach_max, reachf[i][j] + 2.0 * endcap_frac * (diameter[i] + diameter[j]));
   return cut[i][j];
 }
 
@@ -567,6 +581,13 @@ void PairNCFContact::build_lists()
   const double skin = neighbor->skin;
 
   set_segments();
+  // extension of the segments at free chain ends (nodes with one bond), per local/ghost node
+  {
+    double **cnb = atom->darray[idx_cnb];
+    endext.assign(nall, 0.0);
+    for (int k = 0; k < nall; k++)
+      if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];
+  }
   plist.clear();
   clist.clear();
   xbuild.resize(3 * (size_t) nall);
@@ -602,10 +623,12 @@ void PairNCFContact::build_lists()
     }
     const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
     if (share_node(A, B)) return;
+    // segments extended at free chain ends reach farther; d is kept net of the extensions
+    const double extsum = endext[ao] + endext[ia] + endext[bo] + endext[jb];
     const NCF::ClosestPoints cp =
         NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
-    if (cp.dist2 >= lim * lim) return;
-    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2)});
+    if (cp.dist2 >= (lim + extsum) * (lim + extsum)) return;
+    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum});
   };
 
   // one entry per segment (owner node, slot) and, folded into the first segment entry of its
@@ -874,11 +897,17 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
     const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
+    NCF::ContactOptions opt;
+    opt.core = core;
+    opt.ext[0] = endext[ao];
+    opt.ext[1] = endext[ia];
+    opt.ext[2] = endext[bo];
+    opt.ext[3] = endext[jb];
     if (pc.d + dmove2x >= dc &&
-        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
+        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc, opt.ext))
       continue;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
-                                                       ramp_frac * dc, eflag_global != 0);
+                                                       ramp_frac * dc, eflag_global != 0, opt);
     if (!c.active) continue;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
@@ -968,7 +997,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
     if (px * px + py * py + pz * pz >= dc * dc) continue;
     const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
-                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
+                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc,
+                                                 core);
     if (!c.active) continue;
     const int ids[5] = {ao, ia, kp, k, kq};
     for (int m = 0; m < 5; m++) {
@@ -1077,6 +1107,8 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&maxcontacts, sizeof(int), 1, fp);
   fwrite(&fatom_flag, sizeof(int), 1, fp);
   fwrite(&dtcheck, sizeof(int), 1, fp);
+  fwrite(&core, sizeof(double), 1, fp);
+  fwrite(&endcap_frac, sizeof(double), 1, fp);
 }
 
 void PairNCFContact::read_restart_settings(FILE *fp)
@@ -1087,12 +1119,16 @@ void PairNCFContact::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &maxcontacts, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &fatom_flag, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &dtcheck, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &core, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &endcap_frac, sizeof(double), 1, fp, nullptr, error);
   }
   MPI_Bcast(&ramp_frac, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&lmax_user, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
   MPI_Bcast(&fatom_flag, 1, MPI_INT, 0, world);
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
+  MPI_Bcast(&core, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&endcap_frac, 1, MPI_DOUBLE, 0, world);
   ncol = 1 + 6 * maxcontacts;
 }
 

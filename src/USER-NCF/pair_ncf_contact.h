@@ -53,6 +53,8 @@ class PairNCFContact : public Pair {
  protected:
   // settings
   double ramp_frac;      // ramp half-width as a fraction of the contact distance
+  double core;           // stiffness factor of the core (NCF::ContactOptions::core)
+  double endcap_frac;    // extension of segments at free chain ends, fraction of the diameter
   double lmax_user;      // longest segment given by the user (0 = from the data at init)
   int maxcontacts;       // history slots per node
   int fatom_flag;        // store per-atom contact force magnitude
@@ -75,6 +77,7 @@ class PairNCFContact : public Pair {
   int comm_mode;
 
   // per-step work arrays
+  std::vector<double> endext;    // per local+ghost atom: extension at a free chain end [m]
   std::vector<int> segp;       // per local+ghost atom, 2 slots: partner index of owned segments
   std::vector<int> nbr;        // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
   std::vector<double> hbuf;    // new history of the step: 6 values per contact

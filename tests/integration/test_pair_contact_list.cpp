@@ -24,7 +24,9 @@ using namespace contactscene;
 
 namespace {
 
-const double RAMP_FRAC = 0.25;    // pair_style default
+const double RAMP_FRAC = 0.25;      // pair_style defaults: ramp, core, endcap
+const double CORE = 10.0;
+const double ENDCAP_FRAC = 0.5;
 
 struct Brute {
   int contacts = 0, caps = 0;
@@ -42,9 +44,11 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
   };
   std::vector<Seg> segs;
   std::vector<std::array<int, 3>> interior;    // p, n, q
+  std::vector<bool> free_end;                  // per node: one bond only
   int id = 0;
   for (const auto &c : chains) {
     const int n = (int) c.x.size();
+    for (int k = 0; k < n; k++) free_end.push_back(k == 0 || k == n - 1);
     for (int k = 0; k + 1 < n; k++) segs.push_back({id + k, id + k + 1});
     for (int k = 1; k + 1 < n; k++) interior.push_back({id + k - 1, id + k, id + k + 1});
     id += n;
@@ -65,7 +69,12 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
       const Seg &A = segs[i], &B = segs[j];    // keys ascend with the index
       if (A.a0 == B.a0 || A.a0 == B.a1 || A.a1 == B.a0 || A.a1 == B.a1) continue;
       const NCF::Vec3 sh = image(a0, P(B.a0));
-      const auto c = NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e);
+      NCF::ContactOptions opt;
+      opt.core = CORE;
+      const int nodes[4] = {A.a0, A.a1, B.a0, B.a1};
+      for (int k = 0; k < 4; k++) opt.ext[k] = free_end[nodes[k]] ? ENDCAP_FRAC * dc : 0.0;
+      const auto c =
+          NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
       if (!c.active) continue;
       out.contacts++;
       out.energy += c.energy;
@@ -77,7 +86,7 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
       if (excluded) continue;
       const NCF::Vec3 sh = image(a0, P(pnq[1]));
       const auto c =
-          NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc, kn, e);
+          NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc, kn, e, CORE);
       if (!c.active) continue;
       out.caps++;
       out.energy += c.energy;
