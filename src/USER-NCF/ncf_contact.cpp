@@ -269,11 +269,16 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   Vec3 qa0 = a0, qa1 = a1, qb0 = b0, qb1 = b1;
   extend_segment(qa0, qa1, e[0], e[1]);
   extend_segment(qb0, qb1, e[2], e[3]);
-  SegmentContact out =
-      contact_of_segments(qa0, qa1, qb0, qb1, dc, kn, ramp, with_penetration, opt.core);
+  SegmentContact out = contact_of_segments(qa0, qa1, qb0, qb1, dc, kn, ramp, false, opt.core);
   if (!out.active) return out;
   unextend(a0, a1, e[0], e[1], out.f[0], out.f[1], out.xi);
   unextend(b0, b1, e[2], e[3], out.f[2], out.f[3], out.t);
+  // the penetration of the chains themselves: two extended tips may overlap (their weights
+  // fade out there) without any chain coming closer to another
+  if (with_penetration) {
+    const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
+    out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  }
   return out;
 }
 

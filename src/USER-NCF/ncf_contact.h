@@ -70,6 +70,7 @@ struct SegmentContact {
                                // extensions: in [-ext_b0 / L_B, 1 + ext_b1 / L_B])
   double length = 0.0;         // contact length l_c = integral of W over the penetrated part [m]
   double penetration = 0.0;    // D - (distance of the closest points of the two segments) [m]
+                               // (of the segments themselves, not of their extensions)
 };
 
 // Normal penalty contact of segment A (a0-a1) against segment B (b0-b1).

@@ -12,9 +12,13 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace ncftest {
 
@@ -149,6 +153,65 @@ void expect_same_on_ranks(const std::vector<RankRun> &r, double moved, double to
   std::printf("[measured] %s: max |x1 - x2| = %.3g m, max |x1 - x4| = %.3g m\n", what, d2, d4);
   EXPECT_LE(d2, tol) << what;
   EXPECT_LE(d4, tol) << what;
+}
+
+Data read_data_file(const std::string &path)
+{
+  Data d;
+  std::ifstream in(path);
+  std::string line, section;
+  std::map<long, std::array<long, 2>> dt;
+  std::map<long, std::array<double, 2>> l0;
+  while (std::getline(in, line)) {
+    if (line.find(" atoms") != std::string::npos && section.empty())
+      d.atoms = std::atol(line.c_str());
+    if (line.find(" bonds") != std::string::npos && section.empty())
+      d.bonds = std::atol(line.c_str());
+    if (line.rfind("Atoms", 0) == 0 || line == "Bonds" || line == "NCF_NODE" || line == "Masses" ||
+        line == "NCF_CHAIN_L0") {
+      section = line.substr(0, 5);
+      continue;
+    }
+    if (line.empty()) continue;
+    std::istringstream w(line);
+    if (section == "Atoms") {
+      long id, mol;
+      int type;
+      w >> id >> mol >> type;
+      d.type[id] = type;
+    } else if (section == "Bonds") {
+      long id, i, j;
+      int type;
+      w >> id >> type >> i >> j;
+      d.bond.emplace_back(i, j);
+    } else if (section == "NCF_C") {
+      long id;
+      w >> id >> dt[id][0] >> dt[id][1] >> l0[id][0] >> l0[id][1];
+    } else if (section == "NCF_N") {
+      long id;
+      int l, e;
+      w >> id >> l >> e;
+      d.layer[id] = l;
+      d.end[id] = e;
+      d.ends += e != 0;
+    }
+  }
+  for (auto &b : d.bond) {
+    double v = -1;
+    for (int k = 0; k < 2; k++)
+      if (dt[b.first][k] == b.second - b.first) v = l0[b.first][k];
+    d.l0.push_back(v);
+  }
+  return d;
+}
+
+std::string generate(const std::string &card, const std::string &prefix)
+{
+  const char *build = std::getenv("NCF_BUILD");
+  const std::string tool = std::string(build ? build : ".") + "/ncf-gen";
+  const std::string cmd = tool + " " + card + " -o " + prefix + " -q";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return prefix;
 }
 
 }    // namespace ncftest

@@ -5,7 +5,9 @@
 #ifndef NCF_SCENES_H
 #define NCF_SCENES_H
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ncftest {
@@ -51,6 +53,20 @@ std::vector<RankRun> mat_on_1_2_4_ranks(const std::string &dir, unsigned seed,
 // `moved` and that 2 and 4 ranks agree with 1 rank to `tol` (absolute, m); prints the differences
 void expect_same_on_ranks(const std::vector<RankRun> &r, double moved, double tol,
                           const char *what);
+
+// A LAMMPS data file written by ncf-gen, read back: counts, bonds (tags as in the file) with their
+// reference lengths (NCF_CHAIN_L0 section), atom types, layer and end face codes (NCF_NODE).
+struct Data {
+  long atoms = 0, bonds = 0;
+  std::vector<std::pair<long, long>> bond;    // tags as in the file
+  std::vector<double> l0;                     // per bond
+  std::map<long, int> type, end, layer;
+  long ends = 0;
+};
+Data read_data_file(const std::string &path);
+
+// Runs the ncf-gen tool of the build (NCF_BUILD) on a card; returns the output prefix.
+std::string generate(const std::string &card, const std::string &prefix);
 
 }    // namespace ncftest
 

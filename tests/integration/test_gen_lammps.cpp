@@ -7,6 +7,7 @@
 // segment pairs, periodic images included) with the generator's header-only checker.
 
 #include "ncf_lammps_test.h"
+#include "ncf_scenes.h"
 
 #include "../../tools/ncf-gen/ncfgen_geom.h"
 
@@ -25,73 +26,6 @@
 using namespace ncftest;
 
 namespace {
-
-struct Data {
-  long atoms = 0, bonds = 0;
-  std::vector<std::pair<long, long>> bond;    // tags as in the file
-  std::vector<double> l0;                     // per bond
-  std::map<long, int> type, end, layer;
-  long ends = 0;
-};
-
-Data read_data_file(const std::string &path)
-{
-  Data d;
-  std::ifstream in(path);
-  std::string line, section;
-  std::map<long, std::array<long, 2>> dt;
-  std::map<long, std::array<double, 2>> l0;
-  while (std::getline(in, line)) {
-    if (line.find(" atoms") != std::string::npos && section.empty())
-      d.atoms = std::atol(line.c_str());
-    if (line.find(" bonds") != std::string::npos && section.empty())
-      d.bonds = std::atol(line.c_str());
-    if (line.rfind("Atoms", 0) == 0 || line == "Bonds" || line == "NCF_NODE" || line == "Masses" ||
-        line == "NCF_CHAIN_L0") {
-      section = line.substr(0, 5);
-      continue;
-    }
-    if (line.empty()) continue;
-    std::istringstream w(line);
-    if (section == "Atoms") {
-      long id, mol;
-      int type;
-      w >> id >> mol >> type;
-      d.type[id] = type;
-    } else if (section == "Bonds") {
-      long id, i, j;
-      int type;
-      w >> id >> type >> i >> j;
-      d.bond.emplace_back(i, j);
-    } else if (section == "NCF_C") {
-      long id;
-      w >> id >> dt[id][0] >> dt[id][1] >> l0[id][0] >> l0[id][1];
-    } else if (section == "NCF_N") {
-      long id;
-      int l, e;
-      w >> id >> l >> e;
-      d.layer[id] = l;
-      d.end[id] = e;
-      d.ends += e != 0;
-    }
-  }
-  for (auto &b : d.bond) {
-    double v = -1;
-    for (int k = 0; k < 2; k++)
-      if (dt[b.first][k] == b.second - b.first) v = l0[b.first][k];
-    d.l0.push_back(v);
-  }
-  return d;
-}
-
-std::string generate(const std::string &card, const std::string &prefix)
-{
-  const char *build = std::getenv("NCF_BUILD");
-  const std::string tool = std::string(build ? build : ".") + "/ncf-gen";
-  const std::string cmd = tool + " " + card + " -o " + prefix + " -q";
-  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  return prefix;
-}
 
 const char *SETUP = R"(
 units si

@@ -5,6 +5,7 @@
 // pass-through under a fast press, mu = 0 without history, error messages.
 
 #include "ncf_lammps_test.h"
+#include "ncf_passthrough.h"
 #include "test_pair_contact_scene.h"
 
 #include "atom.h"
@@ -404,55 +405,17 @@ thermo 0
 }
 
 namespace {
-// Pass-through checker: for every pair of segments of different chains, the side of B on which
-// A lies (sign of the common-normal offset, for crossing segments whose closest points are
-// interior) must not flip between two checks, and the axes must never come closer than `dmin`.
-struct PassThroughChecker {
-  std::vector<int> chain_of;                // per node (0-based), chain index
-  std::vector<std::pair<int, int>> segs;    // node indices of each segment
-  std::vector<signed char> side;            // per segment pair, last sign (0 unknown)
-  int flips = 0;
-  double closest = 1e300;
-  explicit PassThroughChecker(const std::vector<Chain> &chains)
-  {
-    int id = 0;
-    for (size_t c = 0; c < chains.size(); c++) {
-      for (size_t k = 0; k < chains[c].x.size(); k++) {
-        chain_of.push_back((int) c);
-        if (k + 1 < chains[c].x.size()) segs.push_back({id + (int) k, id + (int) k + 1});
-      }
-      id += (int) chains[c].x.size();
-    }
-    side.assign(segs.size() * segs.size(), 0);
+// node indices of the segments of a list of chains (nodes numbered chain after chain)
+std::vector<std::pair<int, int>> segments_of(const std::vector<Chain> &chains)
+{
+  std::vector<std::pair<int, int>> segs;
+  int id = 0;
+  for (const auto &c : chains) {
+    for (size_t k = 0; k + 1 < c.x.size(); k++) segs.emplace_back(id + (int) k, id + (int) k + 1);
+    id += (int) c.x.size();
   }
-  void check(const std::vector<double> &x)
-  {
-    auto P = [&](int n) {
-      return NCF::Vec3(&x[3 * n]);
-    };
-    for (size_t a = 0; a < segs.size(); a++)
-      for (size_t b = a + 1; b < segs.size(); b++) {
-        if (chain_of[segs[a].first] == chain_of[segs[b].first]) continue;
-        const NCF::Vec3 a0 = P(segs[a].first), a1 = P(segs[a].second);
-        const NCF::Vec3 b0 = P(segs[b].first), b1 = P(segs[b].second);
-        if (NCF::norm2(0.5 * (a0 + a1 - b0 - b1)) > 4 * 1e-4 * 1e-4) continue;
-        auto cp = NCF::closest_points_segments(a0, a1, b0, b1);
-        const double d = std::sqrt(cp.dist2);
-        closest = std::min(closest, d);
-        const NCF::Vec3 nrm = NCF::cross(a1 - a0, b1 - b0);
-        signed char &s = side[a * segs.size() + b];
-        const bool interior = cp.s > 0.0 && cp.s < 1.0 && cp.t > 0.0 && cp.t < 1.0;
-        if (!interior || NCF::norm(nrm) < 0.1 * NCF::norm(a1 - a0) * NCF::norm(b1 - b0)) {
-          s = 0;
-          continue;
-        }
-        const signed char now =
-            NCF::dot(NCF::lerp(a0, a1, cp.s) - NCF::lerp(b0, b1, cp.t), nrm) > 0 ? 1 : -1;
-        if (s != 0 && now != s) flips++;
-        s = now;
-      }
-  }
-};
+  return segs;
+}
 }    // namespace
 
 namespace {
@@ -482,7 +445,7 @@ fix visc all viscous 2e-5
 timestep 5e-9
 thermo 0
 )");
-  PassThroughChecker checker(chains);
+  PassThroughChecker checker(segments_of(chains), side, side, 2e-4);
   l.cmd("run 0");
   checker.check(l.positions());
   maxpen = maxcontacts = 0.0;

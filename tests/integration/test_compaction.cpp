@@ -1,0 +1,109 @@
+// Stage 1 (compaction) end to end: a generated two-layer fabric with sigma = 3 deg
+// (examples/needles/mini.card: 0/90 deg, pillar, 771 nodes) is compacted to the layer thickness
+// t_L by the shipped stage script examples/manufacturing/in.compact (plates, averaged PBC, chain
+// ends moving vertically only, its pass-through guard), with a trajectory dump every 50 steps.
+// Every snapshot goes through a side-flip pass-through checker (periodic in x and y): no chain
+// may pass through another, axes never come closer than half a diameter, and no node leaves the
+// space between the two plates.
+
+#include "ncf_lammps_test.h"
+#include "ncf_passthrough.h"
+#include "ncf_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace ncftest;
+
+namespace {
+
+// snapshots of a LAMMPS text dump "id x y z" sorted by id: calls f(step, positions)
+template <class F> int read_dump(const std::string &path, long natoms, F f)
+{
+  std::ifstream in(path);
+  std::string line;
+  int snapshots = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("ITEM: TIMESTEP", 0) != 0) continue;
+    long step = 0, n = 0;
+    std::getline(in, line);
+    step = std::atol(line.c_str());
+    std::getline(in, line);    // ITEM: NUMBER OF ATOMS
+    std::getline(in, line);
+    n = std::atol(line.c_str());
+    EXPECT_EQ(n, natoms);
+    for (int k = 0; k < 5; k++) std::getline(in, line);    // box bounds (4 lines), ITEM: ATOMS
+    std::vector<double> x(3 * (size_t) n);
+    for (long i = 0; i < n; i++) {
+      std::getline(in, line);
+      std::istringstream w(line);
+      long id;
+      w >> id;
+      EXPECT_EQ(id, i + 1);
+      w >> x[3 * i] >> x[3 * i + 1] >> x[3 * i + 2];
+    }
+    f(step, x);
+    snapshots++;
+  }
+  return snapshots;
+}
+
+}    // namespace
+
+TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
+{
+  const std::string dir = scratch_dir("compaction_sigma3");
+  const std::string prefix = generate(source_path("examples/needles/mini.card"), dir + "/mini");
+  const Data layers = read_data_file(prefix + ".layers.data");
+  ASSERT_GT(layers.bonds, 500);
+
+  // the stage script reads PREFIX.* and writes OUT/PREFIX.*, as run.sh calls it from the output
+  // folder
+  std::filesystem::current_path(dir);
+  Lammps l;
+  l.cmd("variable prefix index mini");
+  l.cmd("variable dumpevery index 50");
+  l.cmd("variable hold index 1000");
+  l.cmd("include " + source_path("examples/manufacturing/in.compact"));
+
+  const double d = l.value("v_ncf_d_fibre"), tl = l.value("v_ncf_thickness");
+  const double lx = l.value("lx"), ly = l.value("ly");
+  // the upper plate reached t_L and stays there
+  EXPECT_NEAR(l.value("v_gap"), tl, 1e-9 * tl);
+  EXPECT_GT(l.value("f_plates[5]"), 0.0) << "the plates carry a load at t_L";
+
+  // upper plate position at a step of the stroke: from the stack top down at constant speed
+  const double ztop0 = l.value("v_ztop0"), speed = l.value("v_speed"), dt = l.value("v_dt");
+  auto z_upper = [&](long step) {
+    return std::max(tl, ztop0 - speed * dt * (double) step);
+  };
+
+  std::vector<std::pair<int, int>> segs;
+  for (const auto &b : layers.bond) segs.emplace_back((int) b.first - 1, (int) b.second - 1);
+  PassThroughChecker checker(segs, lx, ly, 3e-4);
+  double zlow = 1e300, zover = -1e300;
+  const int snapshots = read_dump(prefix + ".compact.dump", layers.atoms,
+                                  [&](long step, const std::vector<double> &x) {
+                                    checker.check(x);
+                                    for (size_t i = 2; i < x.size(); i += 3) {
+                                      zlow = std::min(zlow, x[i]);
+                                      zover = std::max(zover, x[i] - z_upper(step));
+                                    }
+                                  });
+  printf("[ compaction ] sigma 3 deg mat: %d snapshots, %ld crossing pairs compared, closest axes "
+         "%.3f d, lowest node %.3f d above the lower plate, highest %.3f d below the upper one\n",
+         snapshots, checker.pairs_seen, checker.closest / d, zlow / d, -zover / d);
+  EXPECT_GT(snapshots, 100);
+  EXPECT_GT(checker.pairs_seen, 10000) << "the check must see many crossings";
+  EXPECT_EQ(checker.flips, 0) << "a chain passed through another";
+  EXPECT_GT(checker.closest, 0.5 * d) << "axes came closer than half a diameter";
+  // no node passes through a plate: every centre stays between the two plates
+  EXPECT_GT(zlow, 0.0);
+  EXPECT_LT(zover, 0.0);
+}
