@@ -662,7 +662,10 @@ void PairNCFContact::build_lists()
                      (tagint) cnb[k][0],
                      (tagint) cnb[k][1]});
   }
-  if (all.empty()) return;
+  if (all.empty()) {
+    if (use_history) load_history();
+    return;
+  }
   // half extents of the bounding box of every entry (the segment, or its node alone)
   std::vector<std::array<double, 3>> ext(all.size());
   double extmax[3] = {0.0, 0.0, 0.0};
@@ -789,6 +792,84 @@ void PairNCFContact::build_lists()
         }
       }
   }
+  if (use_history) load_history();
+}
+
+/* ----------------------------------------------------------------------
+   friction history: between two list builds it lives with the pair list entries (pslip,
+   phas); the per-atom store (NCF_CONTACT_HIST, rows of the owner nodes) is what LAMMPS migrates,
+   sorts and writes to restart files, so it is read here at every build and rewritten at every
+   step (store_history)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::load_history()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  const size_t np = plist.size();
+  pslip.assign(3 * np, 0.0);
+  phas.assign(np, 0);
+  hcount.resize(nlocal);
+  for (int i = 0; i < nlocal; i++) hcount[i] = (int) hist[i][0];
+  for (size_t e = 0; e < np; e++) {
+    const PairCand &pc = plist[e];
+    if (hcount[pc.a0] == 0) continue;
+    const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);
+    if (!old) continue;
+    pslip[3 * e] = old[0];
+    pslip[3 * e + 1] = old[1];
+    pslip[3 * e + 2] = old[2];
+    phas[e] = 1;
+  }
+}
+
+void PairNCFContact::store_history()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  // the pair list is in the order of the owned nodes, so the contacts of a node are consecutive
+  const int np = (int) plist.size();
+  int owner = -1, n = 0;
+  for (int e = 0; e <= np; e++) {
+    if (e < np && !phas[e]) continue;
+    const int ao = e < np ? plist[e].a0 : -1;
+    if (ao != owner) {
+      if (owner >= 0) {
+        hcount[owner] = -1 - n;    // visited (decoded below)
+        hist[owner][0] = n;
+      }
+      owner = ao;
+      n = 0;
+      if (owner >= 0 && hcount[owner] < 0)
+        error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
+    }
+    if (e == np) break;
+    if (n >= maxcontacts)
+      error->one(FLERR,
+                 "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
+                 "maxcontacts",
+                 tag[ao], maxcontacts);
+    const PairCand &pc = plist[e];
+    double *row = hist[ao] + 1 + 6 * n;
+    row[0] = (double) tag[pc.a1];
+    row[1] = (double) tag[pc.b0];
+    row[2] = (double) tag[pc.b1];
+    row[3] = pslip[3 * (size_t) e];
+    row[4] = pslip[3 * (size_t) e + 1];
+    row[5] = pslip[3 * (size_t) e + 2];
+    n++;
+  }
+  // nodes with no contact left; only the rows whose count changes are touched
+  for (int i = 0; i < nlocal; i++) {
+    if (hcount[i] < 0)
+      hcount[i] = -1 - hcount[i];
+    else if (hcount[i] > 0) {
+      hcount[i] = 0;
+      hist[i][0] = 0.0;
+    }
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -819,13 +900,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     lists_ncalls = neighbor->ncalls;
     lists_nlocal = nlocal;
     lists_nall = nall;
-  }
-  if (use_history) {
-    // the new history of the step, compact: the contacts of one owned node are consecutive
-    // (the pair list is in the order of the owned nodes)
-    hcount.assign(nlocal, 0);
-    hfirst.resize(nlocal);
-    hbuf.clear();
   }
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
@@ -868,8 +942,17 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
 
   // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B)
-  for (const PairCand &pc : plist) {
+  const int npairs = (int) plist.size();
+  for (int e = 0; e < npairs; e++) {
+    const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
+    // whether the pair was in contact (had a stored slip) in the previous step; cleared until
+    // the pair stores a slip again in this step
+    bool had = false;
+    if (use_history) {
+      had = phas[e] != 0;
+      phas[e] = 0;
+    }
     const int itype = type[ao], jtype = type[bo];
     if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
@@ -898,35 +981,22 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       const double m = mu[itype][jtype];
       if (m > 0.0) {
-        const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
-        double slip[3] = {0.0, 0.0, 0.0};
-        const double *old = find_slip_row(ao, A.hi, B.lo, B.hi);
-        if (old) {
-          slip[0] = old[0];
-          slip[1] = old[1];
-          slip[2] = old[2];
-        } else {
-          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
+        double *slip = &pslip[3 * (size_t) e];
+        if (!had) {
+          // a new contact: the slip of a neighbouring pair of the previous step, or zero
+          slip[0] = slip[1] = slip[2] = 0.0;
+          inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip);
         }
         Vec3 s(slip);
         const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
         const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
         ftot += fr.force;
         espring = fr.energy;
-        // store (also a zero slip: the contact exists)
-        const int nslot = hcount[ao];
-        if (nslot >= maxcontacts)
-          error->one(FLERR,
-                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
-                     "keyword maxcontacts",
-                     tag[ao], maxcontacts);
-        const int nstored = (int) (hbuf.size() / 6);
-        if (nslot == 0)
-          hfirst[ao] = nstored;
-        else if (hfirst[ao] + nslot != nstored)
-          error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
-        hbuf.insert(hbuf.end(), {(double) A.hi, (double) B.lo, (double) B.hi, s.x, s.y, s.z});
-        hcount[ao] = nslot + 1;
+        // kept (also a zero slip: the contact exists)
+        slip[0] = s.x;
+        slip[1] = s.y;
+        slip[2] = s.z;
+        phas[e] = 1;
       }
       fa0 += (1.0 - xi) * ftot;
       fa1 += xi * ftot;
@@ -986,15 +1056,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
   }
 
-  // the new history replaces the old one
-  if (use_history) {
-    double **hist = atom->darray[idx_hist];
-    for (int i = 0; i < nlocal; i++) {
-      const int n = hcount[i];
-      hist[i][0] = n;
-      if (n > 0) memcpy(hist[i] + 1, &hbuf[6 * (size_t) hfirst[i]], sizeof(double) * 6 * n);
-    }
-  }
+  // the new history replaces the old one in the per-atom store (read by the take-over of the
+  // next step, and carried by LAMMPS through migration, sorting and restart files)
+  if (use_history) store_history();
 
   if (fatom_flag) {
     comm_mode = COMM_FORCE;

@@ -75,10 +75,13 @@ class PairNCFContact : public Pair {
   int comm_mode;
 
   // per-step work arrays
-  std::vector<int> segp;       // per local+ghost atom, 2 slots: partner index of owned segments
-  std::vector<int> nbr;        // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
-  std::vector<double> hbuf;    // new history of the step: 6 values per contact
-  std::vector<int> hfirst, hcount;    // per owned atom: its first contact in hbuf, and count
+  std::vector<int> segp;    // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<int> nbr;     // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
+  // friction history per entry of the pair list between two list builds (loaded from the
+  // per-atom store at the build); the per-atom store is rewritten from it at every step
+  std::vector<double> pslip;          // per pair list entry: slip vector (3) of the last step
+  std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
+  std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
@@ -100,6 +103,8 @@ class PairNCFContact : public Pair {
 
   void allocate();
   void build_lists();
+  void load_history();
+  void store_history();
   void create_stores();
   void fill_topology();
   void find_lmax();
