@@ -905,15 +905,19 @@ void PairNCFContact::compute(int eflag, int vflag)
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
-  // largest displacement of any local or ghost node since the build (below skin/2): the distance
-  // of two segments, or of a segment and a node, has changed by at most twice that, so a listed
-  // pair whose distance at the build minus 2 dmove is beyond its reach needs no test this step,
-  // and one within D minus 2 dmove needs no prefilter
+  // displacement of every local and ghost node since the build (all below skin/2): the distance
+  // of two segments, or of a segment and a node, has changed by at most the sum of the largest
+  // displacement of a node of each, so a listed pair whose distance at the build minus that
+  // bound is beyond its reach needs no test this step, and one within D minus it no prefilter
+  dmove.resize(nall);
   double dmove2 = 0.0;
   for (int k = 0; k < nall; k++) {
     const double *xb = &xbuild[3 * (size_t) k];
     const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
-    dmove2 = MAX(dmove2, dx * dx + dy * dy + dz * dz);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    dmove2 = MAX(dmove2, d2);
+    // (relative margin for the round-off of the distances)
+    dmove[k] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
     // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
     // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
     if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
@@ -923,8 +927,7 @@ void PairNCFContact::compute(int eflag, int vflag)
                  "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                  std::sqrt(dmove2), neighbor->skin);
   }
-  // (relative margin for the round-off of the distances)
-  const double dmove2x = 2.0 * std::sqrt(dmove2) * (1.0 + 1e-12) + 1e-12 * reach_max;
+  const double *dm = dmove.data();
 
   // every owned segment within the length the cutoffs were sized for
   const double lmax2 = lmax_used * lmax_used;
@@ -954,11 +957,11 @@ void PairNCFContact::compute(int eflag, int vflag)
       phas[e] = 0;
     }
     const int itype = type[ao], jtype = type[bo];
-    if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
+    const double dmv = MAX(dm[ao], dm[ia]) + MAX(dm[bo], dm[jb]);
+    if (pc.d - dmv >= reachf[itype][jtype]) continue;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
     const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
-    if (pc.d + dmove2x >= dc &&
-        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
+    if (pc.d + dmv >= dc && !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
       continue;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
                                                        ramp_frac * dc, eflag_global != 0);
@@ -1026,7 +1029,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
-    if (cc.d - dmove2x >= dc) continue;
+    if (cc.d - (MAX(dm[ao], dm[ia]) + dm[k]) >= dc) continue;
     // the cap acts only where A comes within D of the node
     const double *xn = x[k];
     const double *a0 = x[ao], *a1 = x[ia];

@@ -83,6 +83,7 @@ class PairNCFContact : public Pair {
   std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
+  std::vector<double> dmove;          // per local+ghost atom displacement since the list build
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
