@@ -491,15 +491,8 @@ void PairNCFContact::other_partner(tagint node, tagint not_this, tagint &out) co
   }
 }
 
-// stored slip of the pair (segment owner-ohi, segment blo-bhi), nullptr if none
-const double *PairNCFContact::find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const
-{
-  const int m = atom->map(owner);
-  if (m < 0) return nullptr;
-  return find_slip_row(m, ohi, blo, bhi);
-}
-
-// the same in the history row of the atom with index m (the owner node)
+// stored slip of the pair (segment owner-ohi, segment blo-bhi) in the history row of the atom
+// with index m (the owner node), nullptr if none
 const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
 {
   const double *row = atom->darray[idx_hist][m];
@@ -516,7 +509,10 @@ const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagin
 // a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
 // one segment further along one of them), so that a contact point sliding over a node keeps its
 // history; only values of the previous step are read (the same on any number of ranks)
-bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const
+// local_only: only rows of owned nodes are up to date (the ghost rows have not been communicated
+// this step); returns false, without a result, when a ghost's row would be needed
+bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                                  bool local_only) const
 {
   const SegKey A{a0, a1}, B{b0, b1};
   SegKey cand[4][2];
@@ -534,7 +530,10 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
     const SegKey &X = cand[c][0], &Y = cand[c][1];
     if (share_node(X, Y)) continue;
     const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
-    const double *s = find_slip(M.lo, M.hi, O.lo, O.hi);
+    const int m = atom->map(M.lo);
+    if (m < 0) continue;
+    if (local_only && m >= atom->nlocal) return false;
+    const double *s = find_slip_row(m, M.hi, O.lo, O.hi);
     if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
       slip[0] = s[0];
       slip[1] = s[1];
@@ -542,7 +541,7 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
       return true;
     }
   }
-  return false;
+  return true;
 }
 
 /* ----------------------------------------------------------------------
@@ -887,10 +886,6 @@ void PairNCFContact::compute(int eflag, int vflag)
   const int nall = nlocal + atom->nghost;
   const double dt = update->dt;
 
-  if (use_history) {
-    comm_mode = COMM_HIST;
-    comm->forward_comm(this);
-  }
   // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
   // exchanged or sorted) and after every init
   if (!lists_valid || neighbor->ago == 0 || neighbor->ncalls != lists_ncalls ||
@@ -944,9 +939,11 @@ void PairNCFContact::compute(int eflag, int vflag)
                    tag[i], tag[ia], std::sqrt(l2), lmax_used);
     }
 
-  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B)
-  const int npairs = (int) plist.size();
-  for (int e = 0; e < npairs; e++) {
+  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B). A new contact
+  // whose take-over needs the history of a pair owned by another rank (a ghost's row) is
+  // deferred (returns true) until that history has been communicated
+  deferred.clear();
+  auto pair_contact = [&](int e, bool may_defer) -> bool {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     // whether the pair was in contact (had a stored slip) in the previous step; cleared until
@@ -958,14 +955,14 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     const int itype = type[ao], jtype = type[bo];
     const double dmv = MAX(dm[ao], dm[ia]) + MAX(dm[bo], dm[jb]);
-    if (pc.d - dmv >= reachf[itype][jtype]) continue;
+    if (pc.d - dmv >= reachf[itype][jtype]) return false;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
     const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
     if (pc.d + dmv >= dc && !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
-      continue;
+      return false;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
                                                        ramp_frac * dc, eflag_global != 0);
-    if (!c.active) continue;
+    if (!c.active) return false;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
     double espring = 0.0;
@@ -988,7 +985,10 @@ void PairNCFContact::compute(int eflag, int vflag)
         if (!had) {
           // a new contact: the slip of a neighbouring pair of the previous step, or zero
           slip[0] = slip[1] = slip[2] = 0.0;
-          inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip);
+          if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
+            deferred.push_back(e);
+            return true;
+          }
         }
         Vec3 s(slip);
         const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
@@ -1022,6 +1022,20 @@ void PairNCFContact::compute(int eflag, int vflag)
     ncontact += 1.0;
     pensum += c.penetration;
     penmax = MAX(penmax, c.penetration);
+    return false;
+  };
+  const int npairs = (int) plist.size();
+  for (int e = 0; e < npairs; e++) pair_contact(e, use_history);
+  // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
+  // rows of the previous step, not yet replaced) only in steps where some rank has one
+  if (use_history) {
+    int need = deferred.empty() ? 0 : 1, any = need;
+    if (comm->nprocs > 1) MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
+    if (any) {
+      comm_mode = COMM_HIST;
+      comm->forward_comm(this);
+      for (const int e : deferred) pair_contact(e, false);
+    }
   }
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)

@@ -81,6 +81,7 @@ class PairNCFContact : public Pair {
   // per-atom store at the build); the per-atom store is rewritten from it at every step
   std::vector<double> pslip;          // per pair list entry: slip vector (3) of the last step
   std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
+  std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
   std::vector<double> dmove;          // per local+ghost atom displacement since the list build
@@ -110,9 +111,9 @@ class PairNCFContact : public Pair {
   void fill_topology();
   void find_lmax();
   void set_segments();
-  const double *find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const;
   const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
-  bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const;
+  bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                    bool local_only) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
 };
 
