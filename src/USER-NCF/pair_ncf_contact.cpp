@@ -795,7 +795,7 @@ void PairNCFContact::build_lists()
 }
 
 /* ----------------------------------------------------------------------
-   friction history: between two list builds it lives with the pair list entries (pslip,
+   friction history: between two list builds it lives with the pair list entries (phist,
    phas); the per-atom store (NCF_CONTACT_HIST, rows of the owner nodes) is what LAMMPS migrates,
    sorts and writes to restart files, so it is read here at every build and rewritten at every
    step (store_history)
@@ -807,18 +807,24 @@ void PairNCFContact::load_history()
   const tagint *tag = atom->tag;
   double **hist = atom->darray[idx_hist];
   const size_t np = plist.size();
-  pslip.assign(3 * np, 0.0);
+  phist.resize(6 * np);
   phas.assign(np, 0);
   hcount.resize(nlocal);
   for (int i = 0; i < nlocal; i++) hcount[i] = (int) hist[i][0];
   for (size_t e = 0; e < np; e++) {
     const PairCand &pc = plist[e];
+    double *h = &phist[6 * e];
+    // the slot as stored in the per-atom row: key of A's partner and of B, then the slip
+    h[0] = (double) tag[pc.a1];
+    h[1] = (double) tag[pc.b0];
+    h[2] = (double) tag[pc.b1];
+    h[3] = h[4] = h[5] = 0.0;
     if (hcount[pc.a0] == 0) continue;
     const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);
     if (!old) continue;
-    pslip[3 * e] = old[0];
-    pslip[3 * e + 1] = old[1];
-    pslip[3 * e + 2] = old[2];
+    h[3] = old[0];
+    h[4] = old[1];
+    h[5] = old[2];
     phas[e] = 1;
   }
 }
@@ -850,14 +856,7 @@ void PairNCFContact::store_history()
                  "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
                  "maxcontacts",
                  tag[ao], maxcontacts);
-    const PairCand &pc = plist[e];
-    double *row = hist[ao] + 1 + 6 * n;
-    row[0] = (double) tag[pc.a1];
-    row[1] = (double) tag[pc.b0];
-    row[2] = (double) tag[pc.b1];
-    row[3] = pslip[3 * (size_t) e];
-    row[4] = pslip[3 * (size_t) e + 1];
-    row[5] = pslip[3 * (size_t) e + 2];
+    memcpy(hist[ao] + 1 + 6 * n, &phist[6 * (size_t) e], 6 * sizeof(double));
     n++;
   }
   // nodes with no contact left; only the rows whose count changes are touched
@@ -877,9 +876,11 @@ void PairNCFContact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x;
-  double **v = atom->v;
-  double **f = atom->f;
+  // x, v, f as flat arrays (LAMMPS allocates them contiguously): one load less per node access
+  using Row = double[3];
+  const Row *x = atom->x ? (const Row *) atom->x[0] : nullptr;
+  const Row *v = atom->v ? (const Row *) atom->v[0] : nullptr;
+  Row *f = atom->f ? (Row *) atom->f[0] : nullptr;
   const int *type = atom->type;
   const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
@@ -904,15 +905,21 @@ void PairNCFContact::compute(int eflag, int vflag)
   // of two segments, or of a segment and a node, has changed by at most the sum of the largest
   // displacement of a node of each, so a listed pair whose distance at the build minus that
   // bound is beyond its reach needs no test this step, and one within D minus it no prefilter
-  dmove.resize(nall);
+  // Positions and displacement bounds are packed per node into one array (x, y, z, bound), so
+  // that the random accesses of the list loops fetch one cache line per node.
+  xd.resize(4 * (size_t) nall);
   double dmove2 = 0.0;
   for (int k = 0; k < nall; k++) {
     const double *xb = &xbuild[3 * (size_t) k];
     const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
     const double d2 = dx * dx + dy * dy + dz * dz;
     dmove2 = MAX(dmove2, d2);
+    double *xk = &xd[4 * (size_t) k];
+    xk[0] = x[k][0];
+    xk[1] = x[k][1];
+    xk[2] = x[k][2];
     // (relative margin for the round-off of the distances)
-    dmove[k] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
+    xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
     // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
     // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
     if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
@@ -922,7 +929,13 @@ void PairNCFContact::compute(int eflag, int vflag)
                  "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                  std::sqrt(dmove2), neighbor->skin);
   }
-  const double *dm = dmove.data();
+  const double *X = xd.data();
+  auto xof = [X](int k) {
+    return X + 4 * (size_t) k;
+  };
+  auto dm = [X](int k) {
+    return X[4 * (size_t) k + 3];
+  };
 
   // every owned segment within the length the cutoffs were sized for
   const double lmax2 = lmax_used * lmax_used;
@@ -954,10 +967,10 @@ void PairNCFContact::compute(int eflag, int vflag)
       phas[e] = 0;
     }
     const int itype = type[ao], jtype = type[bo];
-    const double dmv = MAX(dm[ao], dm[ia]) + MAX(dm[bo], dm[jb]);
+    const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
     if (pc.d - dmv >= reachf[itype][jtype]) return false;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
-    const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
+    const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
     if (pc.d + dmv >= dc && !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
       return false;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
@@ -981,7 +994,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       const double m = mu[itype][jtype];
       if (m > 0.0) {
-        double *slip = &pslip[3 * (size_t) e];
+        double *slip = &phist[6 * (size_t) e + 3];
         if (!had) {
           // a new contact: the slip of a neighbouring pair of the previous step, or zero
           slip[0] = slip[1] = slip[2] = 0.0;
@@ -1043,10 +1056,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
-    if (cc.d - (MAX(dm[ao], dm[ia]) + dm[k]) >= dc) continue;
+    if (cc.d - (MAX(dm(ao), dm(ia)) + dm(k)) >= dc) continue;
     // the cap acts only where A comes within D of the node
-    const double *xn = x[k];
-    const double *a0 = x[ao], *a1 = x[ia];
+    const double *xn = xof(k);
+    const double *a0 = xof(ao), *a1 = xof(ia);
     const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
     const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
     const double uu = ux * ux + uy * uy + uz * uz;
@@ -1054,8 +1067,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
     if (px * px + py * py + pz * pz >= dc * dc) continue;
-    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
-                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc);
+    const NCF::NodeContact c =
+        NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
+                          dc, kn[itype][ktype], ramp_frac * dc);
     if (!c.active) continue;
     const int ids[5] = {ao, ia, kp, k, kq};
     for (int m = 0; m < 5; m++) {

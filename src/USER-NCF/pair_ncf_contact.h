@@ -79,12 +79,13 @@ class PairNCFContact : public Pair {
   std::vector<int> nbr;     // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
   // friction history per entry of the pair list between two list builds (loaded from the
   // per-atom store at the build); the per-atom store is rewritten from it at every step
-  std::vector<double> pslip;          // per pair list entry: slip vector (3) of the last step
+  std::vector<double> phist;    // per pair list entry: its slot of the per-atom row (A's partner
+                                // tag, B's tags, slip vector) as of the last step
   std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
-  std::vector<double> dmove;          // per local+ghost atom displacement since the list build
+  std::vector<double> xd;    // per local+ghost atom: position and displacement bound of the step
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
