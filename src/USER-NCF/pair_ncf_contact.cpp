@@ -45,6 +45,7 @@ using NCF::Vec3;
 namespace {
 enum { COMM_HIST, COMM_FORCE };
 
+
 struct SegKey {
   tagint lo, hi;
 };
@@ -662,6 +663,7 @@ void PairNCFContact::build_lists()
                      (tagint) cnb[k][1]});
   }
   if (all.empty()) {
+    pact.assign(plist.size(), 0);
     if (use_history) load_history();
     return;
   }
@@ -791,6 +793,7 @@ void PairNCFContact::build_lists()
         }
       }
   }
+  pact.assign(plist.size(), 0);
   if (use_history) load_history();
 }
 
@@ -971,11 +974,17 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (pc.d - dmv >= reachf[itype][jtype]) return false;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
     const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
-    if (pc.d + dmv >= dc && !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
+    // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
+    // that were not in contact in the previous step (most that were still are)
+    const bool was_active = pact[e] != 0;
+    pact[e] = 0;
+    if (!was_active && pc.d + dmv >= dc &&
+        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc))
       return false;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
                                                        ramp_frac * dc, eflag_global != 0);
     if (!c.active) return false;
+    pact[e] = 1;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
     double espring = 0.0;

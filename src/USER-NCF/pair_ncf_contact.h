@@ -81,6 +81,7 @@ class PairNCFContact : public Pair {
   // per-atom store at the build); the per-atom store is rewritten from it at every step
   std::vector<double> phist;    // per pair list entry: its slot of the per-atom row (A's partner
                                 // tag, B's tags, slip vector) as of the last step
+  std::vector<unsigned char> pact;    // per pair list entry: 1 if the law was active last step
   std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
