@@ -11,7 +11,10 @@
      tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
    - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
    The friction history of the pair lives with A's owner node (a fix property/atom array), so it
-   migrates and restarts with it; the rank that computes the pair always owns it.
+   migrates and restarts with it; the rank that computes the pair always owns it. Between two
+   list builds the history of a pair is read and updated in its list entry; the per-atom store is
+   loaded at the build and rewritten after every step. Ghost rows of the store are communicated
+   only in steps where a new contact takes over the slip of a pair owned by another rank.
 ------------------------------------------------------------------------- */
 
 #include "pair_ncf_contact.h"
@@ -44,7 +47,6 @@ using NCF::Vec3;
 
 namespace {
 enum { COMM_HIST, COMM_FORCE };
-
 
 struct SegKey {
   tagint lo, hi;
