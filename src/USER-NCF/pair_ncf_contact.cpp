@@ -935,6 +935,12 @@ void PairNCFContact::compute(int eflag, int vflag)
                  std::sqrt(dmove2), neighbor->skin);
   }
   const double *X = xd.data();
+  // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
+  // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
+  // node data are loaded
+  const double dglob = 2.0 * (std::sqrt(dmove2) * (1.0 + 1e-12) + 0.5e-12 * reach_max);
+  double dcmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) dcmax = MAX(dcmax, diameter[i]);
   auto xof = [X](int k) {
     return X + 4 * (size_t) k;
   };
@@ -1049,7 +1055,14 @@ void PairNCFContact::compute(int eflag, int vflag)
     return false;
   };
   const int npairs = (int) plist.size();
-  for (int e = 0; e < npairs; e++) pair_contact(e, use_history);
+  for (int e = 0; e < npairs; e++) {
+    if (plist[e].d - dglob >= reach_max) {
+      pact[e] = 0;
+      if (use_history) phas[e] = 0;
+      continue;
+    }
+    pair_contact(e, use_history);
+  }
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
   // rows of the previous step, not yet replaced) only in steps where some rank has one
   if (use_history) {
@@ -1064,6 +1077,7 @@ void PairNCFContact::compute(int eflag, int vflag)
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
   for (const CapCand &cc : clist) {
+    if (cc.d - dglob >= dcmax) continue;
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
