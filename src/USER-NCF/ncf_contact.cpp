@@ -49,214 +49,214 @@ namespace {
 }    // namespace
 
 namespace {
-SegmentContact contact_of_segments(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                                   double dc, double kn, double ramp, bool with_penetration,
-                                   double core)
-{
-  SegmentContact out;
-  if (!(dc > 0.0) || !(ramp > 0.0)) return out;
-  const Vec3 da = a1 - a0, u = b1 - b0;
-  const double la = norm(da), lb = norm(u);
-  if (!(la > MIN_LENGTH * dc) || !(lb > MIN_LENGTH * dc)) return out;
-  const double inv_lb = 1.0 / lb;
-  const Vec3 ea = (1.0 / la) * da, eb = inv_lb * u;
+  SegmentContact contact_of_segments(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                                     double dc, double kn, double ramp, bool with_penetration,
+                                     double core)
+  {
+    SegmentContact out;
+    if (!(dc > 0.0) || !(ramp > 0.0)) return out;
+    const Vec3 da = a1 - a0, u = b1 - b0;
+    const double la = norm(da), lb = norm(u);
+    if (!(la > MIN_LENGTH * dc) || !(lb > MIN_LENGTH * dc)) return out;
+    const double inv_lb = 1.0 / lb;
+    const Vec3 ea = (1.0 / la) * da, eb = inv_lb * u;
 
-  // along A: s(xi) = s0 + s1 xi (arc position on B's line), r(xi) = r0 + xi r1 (offset from it)
-  const Vec3 w0 = a0 - b0;
-  const double s0 = dot(w0, eb), s1 = dot(da, eb);
-  const Vec3 r0 = w0 - s0 * eb, r1 = da - s1 * eb;
-  const double d2 = dc * dc;
-  const double qa_ = norm2(r1), qb_ = 2.0 * dot(r0, r1), qc_ = norm2(r0);
+    // along A: s(xi) = s0 + s1 xi (arc position on B's line), r(xi) = r0 + xi r1 (offset from it)
+    const Vec3 w0 = a0 - b0;
+    const double s0 = dot(w0, eb), s1 = dot(da, eb);
+    const Vec3 r0 = w0 - s0 * eb, r1 = da - s1 * eb;
+    const double d2 = dc * dc;
+    const double qa_ = norm2(r1), qb_ = 2.0 * dot(r0, r1), qc_ = norm2(r0);
 
-  double lo, hi;
-  if (!negative_interval(qa_, qb_, qc_ - d2, 1e-28 * la * la, lo, hi)) return out;
-  lo = std::max(lo, 0.0);
-  hi = std::min(hi, 1.0);
-  // where the weight W(s) is non-zero: -e < s < lb + e
-  const double e = ramp;
-  if (std::fabs(s1) > 1e-14 * la) {
-    double x1 = (-e - s0) / s1, x2 = (lb + e - s0) / s1;
-    if (x1 > x2) std::swap(x1, x2);
-    lo = std::max(lo, x1);
-    hi = std::min(hi, x2);
-  } else if (s0 <= -e || s0 >= lb + e) {
+    double lo, hi;
+    if (!negative_interval(qa_, qb_, qc_ - d2, 1e-28 * la * la, lo, hi)) return out;
+    lo = std::max(lo, 0.0);
+    hi = std::min(hi, 1.0);
+    // where the weight W(s) is non-zero: -e < s < lb + e
+    const double e = ramp;
+    if (std::fabs(s1) > 1e-14 * la) {
+      double x1 = (-e - s0) / s1, x2 = (lb + e - s0) / s1;
+      if (x1 > x2) std::swap(x1, x2);
+      lo = std::max(lo, x1);
+      hi = std::min(hi, x2);
+    } else if (s0 <= -e || s0 >= lb + e) {
+      return out;
+    }
+    if (!(hi > lo)) return out;
+
+    // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
+    // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
+    // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
+    double brk[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    int nb = 0;
+    brk[nb++] = lo;
+    // the core's boundary r = D_c is a break point as well
+    const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
+    const bool with_core = core > 0.0;
+    if (with_core) {
+      double clo, chi;
+      if (negative_interval(qa_, qb_, qc_ - dcc2, 1e-28 * la * la, clo, chi)) {
+        if (clo > lo && clo < hi) brk[nb++] = clo;
+        if (chi > lo && chi < hi) brk[nb++] = chi;
+      }
+    }
+    if (std::fabs(s1) > 1e-14 * la) {
+      const double inv_s1 = 1.0 / s1;
+      const double corners[3] = {e, lb - e, 0.5 * lb};
+      const int ncorner = lb < 2.0 * e ? 3 : 2;
+      for (int k = 0; k < ncorner; k++) {
+        const double x = (corners[k] - s0) * inv_s1;
+        if (x > lo && x < hi) brk[nb++] = x;
+      }
+    }
+    brk[nb++] = hi;
+    for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
+      for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
+
+    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+    static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+    const double inv2e = 0.5 / e;
+
+    // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
+    // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
+    // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
+    // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
+    double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
+    double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
+    double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
+    double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
+    const double inv2dc = 0.5 / dc, invdc = 1.0 / dc, inv2dcc = 0.5 / dcc, invdcc = 1.0 / dcc;
+
+    for (int k = 0; k + 1 < nb; k++) {
+      const double half = 0.5 * (brk[k + 1] - brk[k]);
+      if (!(half > 0.0)) continue;
+      const double mid = 0.5 * (brk[k + 1] + brk[k]);
+      for (int q = 0; q < 3; q++) {
+        const double xi = mid + half * gx[q];
+        const double om = half * gw[q];
+        const double s = s0 + s1 * xi;
+        const double r2 = norm2(r0 + xi * r1);
+        double h = (d2 - r2) * inv2dc;
+        if (h < 0.0) h = 0.0;
+        // energy density hh = h^2/2 (+ kappa h_c^2/2) and its slope -d(hh)/d(r^2) * 2 = hd
+        double hh = 0.5 * h * h, hd = h * invdc;
+        if (with_core && r2 < dcc2) {
+          const double hc = (dcc2 - r2) * inv2dcc;
+          hh += 0.5 * core * hc * hc;
+          hd += core * hc * invdcc;
+        }
+        // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
+        const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
+        const bool ramp_a = wa <= wb;
+        double w = ramp_a ? wa : wb;
+        bool inramp = false;
+        if (w >= 1.0) {
+          w = 1.0;
+        } else if (w <= 0.0) {
+          continue;
+        } else {
+          inramp = true;
+        }
+        L0 += om * w;
+        P0 += om * hh * w;
+        const double c = om * hd * w;
+        C0 += c;
+        C1 += c * xi;
+        C2 += c * xi * xi;
+        if (inramp) {
+          const double qv = om * hh * inv2e;
+          if (ramp_a) {
+            QA0 += qv;
+            QA1 += qv * xi;
+          } else {
+            QB0 += qv;
+            QB1 += qv * xi;
+          }
+        }
+        const double cr = c * std::sqrt(r2);
+        M0 += cr;
+        M1 += cr * xi;
+        MS += cr * s;
+      }
+    }
+    const double energy = kn * la * P0, length = la * L0;
+    if (!(energy > 0.0) && !(length > 0.0)) return out;
+
+    // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
+    // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
+    // eb - r/lb for the ramp at B1) and through la
+    const double K = kn * la;
+    const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
+    const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
+    const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
+    const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
+    const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
+    const Vec3 lpart = (kn * P0) * ea;
+    Vec3 g[4];
+    g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
+    g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
+    g[2] = K * ((cr_sum - ctr_sum) - QA0 * eb - qa_rl + qb_rl);
+    g[3] = K * (ctr_sum + qa_rl + QB0 * eb - qb_rl);
+    const Vec3 fres = K * cr_sum;    // resultant normal force on A
+
+    out.active = true;
+    out.energy = energy;
+    for (int n = 0; n < 4; n++) out.f[n] = -g[n];
+    out.length = length;
+    if (M0 > 0.0) {
+      out.xi = M1 / M0;
+      out.t = clamp01(MS / M0 * inv_lb);
+    } else {
+      out.xi = 0.5 * (lo + hi);
+      out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
+    }
+    // normal direction: the offset from B's line of the point of A's line closest to it (the
+    // common perpendicular of the two lines), that point being kept within one contact distance
+    // of this pair's contact zone on A. Two pairs that share one contact (a crossing on a node of
+    // A, or of B) therefore take the same normal and their normal forces add up without loss or
+    // excess; for (nearly) parallel segments it is the offset at the end of the zone nearest to
+    // B's line. Where the axes touch: the direction of the resultant.
+    const double qa = norm2(r1);
+    double xs = 0.5 * (lo + hi);
+    if (qa > 1e-28 * la * la) {
+      const double ext = dc / la;
+      xs = std::min(hi + ext, std::max(lo - ext, -dot(r0, r1) / qa));
+    }
+    const Vec3 rs = r0 + xs * r1;
+    const double rn = norm(rs), fr = norm(fres);
+    if (rn > 1e-9 * dc) {
+      out.normal = (1.0 / rn) * rs;
+      out.fn = std::max(0.0, dot(fres, out.normal));
+    } else if (fr > 0.0) {
+      out.normal = (1.0 / fr) * fres;
+      out.fn = fr;
+    }
+    if (with_penetration) {
+      const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
+      out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+    }
     return out;
   }
-  if (!(hi > lo)) return out;
 
-  // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
-  // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
-  // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
-  double brk[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  int nb = 0;
-  brk[nb++] = lo;
-  // the core's boundary r = D_c is a break point as well
-  const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
-  const bool with_core = core > 0.0;
-  if (with_core) {
-    double clo, chi;
-    if (negative_interval(qa_, qb_, qc_ - dcc2, 1e-28 * la * la, clo, chi)) {
-      if (clo > lo && clo < hi) brk[nb++] = clo;
-      if (chi > lo && chi < hi) brk[nb++] = chi;
-    }
+  // forces on the extended end points q0 = p0 - e0 u, q1 = p1 + e1 u (u = unit axis p0 -> p1)
+  // mapped back to p0, p1 (chain rule; the sum of the two forces is unchanged); the contact point
+  // parameter likewise
+  void unextend(const Vec3 &p0, const Vec3 &p1, double e0, double e1, Vec3 &f0, Vec3 &f1,
+                double &param)
+  {
+    const Vec3 u = p1 - p0;
+    const double l = norm(u);
+    if (!(l > 0.0)) return;
+    const Vec3 eu = (1.0 / l) * u;
+    // d(q_k)/d(p1) = [k] + (t_k / l) (I - eu eu^T), t_0 = -e0, t_1 = e1; d(q_k)/d(p0) the rest
+    const Vec3 g = (e1 / l) * f1 - (e0 / l) * f0;
+    const Vec3 gp = g - dot(g, eu) * eu;
+    const Vec3 ftot = f0 + f1;
+    f1 += gp;
+    f0 = ftot - f1;
+    const double lq = l + e0 + e1;
+    param = (param * lq - e0) / l;
   }
-  if (std::fabs(s1) > 1e-14 * la) {
-    const double inv_s1 = 1.0 / s1;
-    const double corners[3] = {e, lb - e, 0.5 * lb};
-    const int ncorner = lb < 2.0 * e ? 3 : 2;
-    for (int k = 0; k < ncorner; k++) {
-      const double x = (corners[k] - s0) * inv_s1;
-      if (x > lo && x < hi) brk[nb++] = x;
-    }
-  }
-  brk[nb++] = hi;
-  for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
-    for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
-
-  static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
-  static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  const double inv2e = 0.5 / e;
-
-  // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
-  // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
-  // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
-  // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
-  double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
-  double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
-  double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
-  double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
-  const double inv2dc = 0.5 / dc, invdc = 1.0 / dc, inv2dcc = 0.5 / dcc, invdcc = 1.0 / dcc;
-
-  for (int k = 0; k + 1 < nb; k++) {
-    const double half = 0.5 * (brk[k + 1] - brk[k]);
-    if (!(half > 0.0)) continue;
-    const double mid = 0.5 * (brk[k + 1] + brk[k]);
-    for (int q = 0; q < 3; q++) {
-      const double xi = mid + half * gx[q];
-      const double om = half * gw[q];
-      const double s = s0 + s1 * xi;
-      const double r2 = norm2(r0 + xi * r1);
-      double h = (d2 - r2) * inv2dc;
-      if (h < 0.0) h = 0.0;
-      // energy density hh = h^2/2 (+ kappa h_c^2/2) and its slope -d(hh)/d(r^2) * 2 = hd
-      double hh = 0.5 * h * h, hd = h * invdc;
-      if (with_core && r2 < dcc2) {
-        const double hc = (dcc2 - r2) * inv2dcc;
-        hh += 0.5 * core * hc * hc;
-        hd += core * hc * invdcc;
-      }
-      // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
-      const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-      const bool ramp_a = wa <= wb;
-      double w = ramp_a ? wa : wb;
-      bool inramp = false;
-      if (w >= 1.0) {
-        w = 1.0;
-      } else if (w <= 0.0) {
-        continue;
-      } else {
-        inramp = true;
-      }
-      L0 += om * w;
-      P0 += om * hh * w;
-      const double c = om * hd * w;
-      C0 += c;
-      C1 += c * xi;
-      C2 += c * xi * xi;
-      if (inramp) {
-        const double qv = om * hh * inv2e;
-        if (ramp_a) {
-          QA0 += qv;
-          QA1 += qv * xi;
-        } else {
-          QB0 += qv;
-          QB1 += qv * xi;
-        }
-      }
-      const double cr = c * std::sqrt(r2);
-      M0 += cr;
-      M1 += cr * xi;
-      MS += cr * s;
-    }
-  }
-  const double energy = kn * la * P0, length = la * L0;
-  if (!(energy > 0.0) && !(length > 0.0)) return out;
-
-  // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
-  // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
-  // eb - r/lb for the ramp at B1) and through la
-  const double K = kn * la;
-  const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
-  const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
-  const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
-  const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
-  const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
-  const Vec3 lpart = (kn * P0) * ea;
-  Vec3 g[4];
-  g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
-  g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
-  g[2] = K * ((cr_sum - ctr_sum) - QA0 * eb - qa_rl + qb_rl);
-  g[3] = K * (ctr_sum + qa_rl + QB0 * eb - qb_rl);
-  const Vec3 fres = K * cr_sum;    // resultant normal force on A
-
-  out.active = true;
-  out.energy = energy;
-  for (int n = 0; n < 4; n++) out.f[n] = -g[n];
-  out.length = length;
-  if (M0 > 0.0) {
-    out.xi = M1 / M0;
-    out.t = clamp01(MS / M0 * inv_lb);
-  } else {
-    out.xi = 0.5 * (lo + hi);
-    out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
-  }
-  // normal direction: the offset from B's line of the point of A's line closest to it (the
-  // common perpendicular of the two lines), that point being kept within one contact distance
-  // of this pair's contact zone on A. Two pairs that share one contact (a crossing on a node of
-  // A, or of B) therefore take the same normal and their normal forces add up without loss or
-  // excess; for (nearly) parallel segments it is the offset at the end of the zone nearest to
-  // B's line. Where the axes touch: the direction of the resultant.
-  const double qa = norm2(r1);
-  double xs = 0.5 * (lo + hi);
-  if (qa > 1e-28 * la * la) {
-    const double ext = dc / la;
-    xs = std::min(hi + ext, std::max(lo - ext, -dot(r0, r1) / qa));
-  }
-  const Vec3 rs = r0 + xs * r1;
-  const double rn = norm(rs), fr = norm(fres);
-  if (rn > 1e-9 * dc) {
-    out.normal = (1.0 / rn) * rs;
-    out.fn = std::max(0.0, dot(fres, out.normal));
-  } else if (fr > 0.0) {
-    out.normal = (1.0 / fr) * fres;
-    out.fn = fr;
-  }
-  if (with_penetration) {
-    const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
-    out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
-  }
-  return out;
-}
-
-// forces on the extended end points q0 = p0 - e0 u, q1 = p1 + e1 u (u = unit axis p0 -> p1)
-// mapped back to p0, p1 (chain rule; the sum of the two forces is unchanged); the contact point
-// parameter likewise
-void unextend(const Vec3 &p0, const Vec3 &p1, double e0, double e1, Vec3 &f0, Vec3 &f1,
-              double &param)
-{
-  const Vec3 u = p1 - p0;
-  const double l = norm(u);
-  if (!(l > 0.0)) return;
-  const Vec3 eu = (1.0 / l) * u;
-  // d(q_k)/d(p1) = [k] + (t_k / l) (I - eu eu^T), t_0 = -e0, t_1 = e1; d(q_k)/d(p0) the rest
-  const Vec3 g = (e1 / l) * f1 - (e0 / l) * f0;
-  const Vec3 gp = g - dot(g, eu) * eu;
-  const Vec3 ftot = f0 + f1;
-  f1 += gp;
-  f0 = ftot - f1;
-  const double lq = l + e0 + e1;
-  param = (param * lq - e0) / l;
-}
 }    // namespace
 
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,

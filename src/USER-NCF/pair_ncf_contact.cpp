@@ -11,7 +11,10 @@
      tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
    - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
    The friction history of the pair lives with A's owner node (a fix property/atom array), so it
-   migrates and restarts with it; the rank that computes the pair always owns it.
+   migrates and restarts with it; the rank that computes the pair always owns it. Between two
+   list builds the history of a pair is read and updated in its list entry; the per-atom store is
+   loaded at the build and rewritten after every step. Ghost rows of the store are communicated
+   only in steps where a new contact takes over the slip of a pair owned by another rank.
 ------------------------------------------------------------------------- */
 
 #include "pair_ncf_contact.h"
@@ -425,8 +428,7 @@ void PairNCFContact::init_style()
   // also the owners of the segments next to B along its chain (+ lmax)
   double dmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
-  const double need =
-      dmax * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
+  const double need = dmax * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
       (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
@@ -505,15 +507,8 @@ void PairNCFContact::other_partner(tagint node, tagint not_this, tagint &out) co
   }
 }
 
-// stored slip of the pair (segment owner-ohi, segment blo-bhi), nullptr if none
-const double *PairNCFContact::find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const
-{
-  const int m = atom->map(owner);
-  if (m < 0) return nullptr;
-  return find_slip_row(m, ohi, blo, bhi);
-}
-
-// the same in the history row of the atom with index m (the owner node)
+// stored slip of the pair (segment owner-ohi, segment blo-bhi) in the history row of the atom
+// with index m (the owner node), nullptr if none
 const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
 {
   const double *row = atom->darray[idx_hist][m];
@@ -530,7 +525,10 @@ const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagin
 // a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
 // one segment further along one of them), so that a contact point sliding over a node keeps its
 // history; only values of the previous step are read (the same on any number of ranks)
-bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const
+// local_only: only rows of owned nodes are up to date (the ghost rows have not been communicated
+// this step); returns false, without a result, when a ghost's row would be needed
+bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                                  bool local_only) const
 {
   const SegKey A{a0, a1}, B{b0, b1};
   SegKey cand[4][2];
@@ -548,7 +546,10 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
     const SegKey &X = cand[c][0], &Y = cand[c][1];
     if (share_node(X, Y)) continue;
     const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
-    const double *s = find_slip(M.lo, M.hi, O.lo, O.hi);
+    const int m = atom->map(M.lo);
+    if (m < 0) continue;
+    if (local_only && m >= atom->nlocal) return false;
+    const double *s = find_slip_row(m, M.hi, O.lo, O.hi);
     if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
       slip[0] = s[0];
       slip[1] = s[1];
@@ -556,7 +557,7 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
       return true;
     }
   }
-  return false;
+  return true;
 }
 
 /* ----------------------------------------------------------------------
@@ -685,7 +686,11 @@ void PairNCFContact::build_lists()
                      (tagint) cnb[k][0],
                      (tagint) cnb[k][1]});
   }
-  if (all.empty()) return;
+  if (all.empty()) {
+    pact.assign(plist.size(), 0);
+    if (use_history) load_history();
+    return;
+  }
   // half extents of the bounding box of every entry (the segment, or its node alone)
   std::vector<std::array<double, 3>> ext(all.size());
   double extmax[3] = {0.0, 0.0, 0.0};
@@ -812,6 +817,84 @@ void PairNCFContact::build_lists()
         }
       }
   }
+  pact.assign(plist.size(), 0);
+  if (use_history) load_history();
+}
+
+/* ----------------------------------------------------------------------
+   friction history: between two list builds it lives with the pair list entries (phist,
+   phas); the per-atom store (NCF_CONTACT_HIST, rows of the owner nodes) is what LAMMPS migrates,
+   sorts and writes to restart files, so it is read here at every build and rewritten at every
+   step (store_history)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::load_history()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  const size_t np = plist.size();
+  phist.resize(6 * np);
+  phas.assign(np, 0);
+  hcount.resize(nlocal);
+  for (int i = 0; i < nlocal; i++) hcount[i] = (int) hist[i][0];
+  for (size_t e = 0; e < np; e++) {
+    const PairCand &pc = plist[e];
+    double *h = &phist[6 * e];
+    // the slot as stored in the per-atom row: key of A's partner and of B, then the slip
+    h[0] = (double) tag[pc.a1];
+    h[1] = (double) tag[pc.b0];
+    h[2] = (double) tag[pc.b1];
+    h[3] = h[4] = h[5] = 0.0;
+    if (hcount[pc.a0] == 0) continue;
+    const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);
+    if (!old) continue;
+    h[3] = old[0];
+    h[4] = old[1];
+    h[5] = old[2];
+    phas[e] = 1;
+  }
+}
+
+void PairNCFContact::store_history()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  // the pair list is in the order of the owned nodes, so the contacts of a node are consecutive
+  const int np = (int) plist.size();
+  int owner = -1, n = 0;
+  for (int e = 0; e <= np; e++) {
+    if (e < np && !phas[e]) continue;
+    const int ao = e < np ? plist[e].a0 : -1;
+    if (ao != owner) {
+      if (owner >= 0) {
+        hcount[owner] = -1 - n;    // visited (decoded below)
+        hist[owner][0] = n;
+      }
+      owner = ao;
+      n = 0;
+      if (owner >= 0 && hcount[owner] < 0)
+        error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
+    }
+    if (e == np) break;
+    if (n >= maxcontacts)
+      error->one(FLERR,
+                 "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
+                 "maxcontacts",
+                 tag[ao], maxcontacts);
+    memcpy(hist[ao] + 1 + 6 * n, &phist[6 * (size_t) e], 6 * sizeof(double));
+    n++;
+  }
+  // nodes with no contact left; only the rows whose count changes are touched
+  for (int i = 0; i < nlocal; i++) {
+    if (hcount[i] < 0)
+      hcount[i] = -1 - hcount[i];
+    else if (hcount[i] > 0) {
+      hcount[i] = 0;
+      hist[i][0] = 0.0;
+    }
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -820,19 +903,17 @@ void PairNCFContact::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x;
-  double **v = atom->v;
-  double **f = atom->f;
+  // x, v, f as flat arrays (LAMMPS allocates them contiguously): one load less per node access
+  using Row = double[3];
+  const Row *x = atom->x ? (const Row *) atom->x[0] : nullptr;
+  const Row *v = atom->v ? (const Row *) atom->v[0] : nullptr;
+  Row *f = atom->f ? (Row *) atom->f[0] : nullptr;
   const int *type = atom->type;
   const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const double dt = update->dt;
 
-  if (use_history) {
-    comm_mode = COMM_HIST;
-    comm->forward_comm(this);
-  }
   // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
   // exchanged or sorted) and after every init
   if (!lists_valid || neighbor->ago == 0 || neighbor->ncalls != lists_ncalls ||
@@ -843,26 +924,29 @@ void PairNCFContact::compute(int eflag, int vflag)
     lists_nlocal = nlocal;
     lists_nall = nall;
   }
-  if (use_history) {
-    // the new history of the step, compact: the contacts of one owned node are consecutive
-    // (the pair list is in the order of the owned nodes)
-    hcount.assign(nlocal, 0);
-    hfirst.resize(nlocal);
-    hbuf.clear();
-  }
   if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
-  // largest displacement of any local or ghost node since the build (below skin/2): the distance
-  // of two segments, or of a segment and a node, has changed by at most twice that, so a listed
-  // pair whose distance at the build minus 2 dmove is beyond its reach needs no test this step,
-  // and one within D minus 2 dmove needs no prefilter
+  // displacement of every local and ghost node since the build (all below skin/2): the distance
+  // of two segments, or of a segment and a node, has changed by at most the sum of the largest
+  // displacement of a node of each, so a listed pair whose distance at the build minus that
+  // bound is beyond its reach needs no test this step, and one within D minus it no prefilter
+  // Positions and displacement bounds are packed per node into one array (x, y, z, bound), so
+  // that the random accesses of the list loops fetch one cache line per node.
+  xd.resize(4 * (size_t) nall);
   double dmove2 = 0.0;
   for (int k = 0; k < nall; k++) {
     const double *xb = &xbuild[3 * (size_t) k];
     const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
-    dmove2 = MAX(dmove2, dx * dx + dy * dy + dz * dz);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    dmove2 = MAX(dmove2, d2);
+    double *xk = &xd[4 * (size_t) k];
+    xk[0] = x[k][0];
+    xk[1] = x[k][1];
+    xk[2] = x[k][2];
+    // (relative margin for the round-off of the distances)
+    xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
     // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
     // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
     if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
@@ -872,8 +956,19 @@ void PairNCFContact::compute(int eflag, int vflag)
                  "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                  std::sqrt(dmove2), neighbor->skin);
   }
-  // (relative margin for the round-off of the distances)
-  const double dmove2x = 2.0 * std::sqrt(dmove2) * (1.0 + 1e-12) + 1e-12 * reach_max;
+  const double *X = xd.data();
+  // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
+  // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
+  // node data are loaded
+  const double dglob = 2.0 * (std::sqrt(dmove2) * (1.0 + 1e-12) + 0.5e-12 * reach_max);
+  double dcmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) dcmax = MAX(dcmax, diameter[i]);
+  auto xof = [X](int k) {
+    return X + 4 * (size_t) k;
+  };
+  auto dm = [X](int k) {
+    return X[4 * (size_t) k + 3];
+  };
 
   // every owned segment within the length the cutoffs were sized for
   const double lmax2 = lmax_used * lmax_used;
@@ -890,25 +985,42 @@ void PairNCFContact::compute(int eflag, int vflag)
                    tag[i], tag[ia], std::sqrt(l2), lmax_used);
     }
 
-  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B)
-  for (const PairCand &pc : plist) {
+  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B). A new contact
+  // whose take-over needs the history of a pair owned by another rank (a ghost's row) is
+  // deferred (returns true) until that history has been communicated
+  deferred.clear();
+  auto pair_contact = [&](int e, bool may_defer) -> bool {
+    const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
+    // whether the pair was in contact (had a stored slip) in the previous step; cleared until
+    // the pair stores a slip again in this step
+    bool had = false;
+    if (use_history) {
+      had = phas[e] != 0;
+      phas[e] = 0;
+    }
     const int itype = type[ao], jtype = type[bo];
-    if (pc.d - dmove2x >= reachf[itype][jtype]) continue;
+    const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
+    if (pc.d - dmv >= reachf[itype][jtype]) return false;
     const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
-    const Vec3 xa0(x[ao]), xa1(x[ia]), xb0(x[bo]), xb1(x[jb]);
+    const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
     NCF::ContactOptions opt;
     opt.core = core;
     opt.ext[0] = endext[ao];
     opt.ext[1] = endext[ia];
     opt.ext[2] = endext[bo];
     opt.ext[3] = endext[jb];
-    if (pc.d + dmove2x >= dc &&
+    // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
+    // that were not in contact in the previous step (most that were still are)
+    const bool was_active = pact[e] != 0;
+    pact[e] = 0;
+    if (!was_active && pc.d + dmv >= dc &&
         !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc, opt.ext))
-      continue;
+      return false;
     const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
                                                        ramp_frac * dc, eflag_global != 0, opt);
-    if (!c.active) continue;
+    if (!c.active) return false;
+    pact[e] = 1;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
     double espring = 0.0;
@@ -927,35 +1039,25 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       const double m = mu[itype][jtype];
       if (m > 0.0) {
-        const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
-        double slip[3] = {0.0, 0.0, 0.0};
-        const double *old = find_slip_row(ao, A.hi, B.lo, B.hi);
-        if (old) {
-          slip[0] = old[0];
-          slip[1] = old[1];
-          slip[2] = old[2];
-        } else {
-          inherit_slip(A.lo, A.hi, B.lo, B.hi, slip);
+        double *slip = &phist[6 * (size_t) e + 3];
+        if (!had) {
+          // a new contact: the slip of a neighbouring pair of the previous step, or zero
+          slip[0] = slip[1] = slip[2] = 0.0;
+          if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
+            deferred.push_back(e);
+            return true;
+          }
         }
         Vec3 s(slip);
         const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
         const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
         ftot += fr.force;
         espring = fr.energy;
-        // store (also a zero slip: the contact exists)
-        const int nslot = hcount[ao];
-        if (nslot >= maxcontacts)
-          error->one(FLERR,
-                     "pair ncf/contact: node {} has more than {} contacts; raise pair_style "
-                     "keyword maxcontacts",
-                     tag[ao], maxcontacts);
-        const int nstored = (int) (hbuf.size() / 6);
-        if (nslot == 0)
-          hfirst[ao] = nstored;
-        else if (hfirst[ao] + nslot != nstored)
-          error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
-        hbuf.insert(hbuf.end(), {(double) A.hi, (double) B.lo, (double) B.hi, s.x, s.y, s.z});
-        hcount[ao] = nslot + 1;
+        // kept (also a zero slip: the contact exists)
+        slip[0] = s.x;
+        slip[1] = s.y;
+        slip[2] = s.z;
+        phas[e] = 1;
       }
       fa0 += (1.0 - xi) * ftot;
       fa1 += xi * ftot;
@@ -978,17 +1080,39 @@ void PairNCFContact::compute(int eflag, int vflag)
     ncontact += 1.0;
     pensum += c.penetration;
     penmax = MAX(penmax, c.penetration);
+    return false;
+  };
+  const int npairs = (int) plist.size();
+  for (int e = 0; e < npairs; e++) {
+    if (plist[e].d - dglob >= reach_max) {
+      pact[e] = 0;
+      if (use_history) phas[e] = 0;
+      continue;
+    }
+    pair_contact(e, use_history);
+  }
+  // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
+  // rows of the previous step, not yet replaced) only in steps where some rank has one
+  if (use_history) {
+    int need = deferred.empty() ? 0 : 1, any = need;
+    if (comm->nprocs > 1) MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
+    if (any) {
+      comm_mode = COMM_HIST;
+      comm->forward_comm(this);
+      for (const int e : deferred) pair_contact(e, false);
+    }
   }
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
   for (const CapCand &cc : clist) {
+    if (cc.d - dglob >= dcmax) continue;
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
-    if (cc.d - dmove2x >= dc) continue;
+    if (cc.d - (MAX(dm(ao), dm(ia)) + dm(k)) >= dc) continue;
     // the cap acts only where A comes within D of the node
-    const double *xn = x[k];
-    const double *a0 = x[ao], *a1 = x[ia];
+    const double *xn = xof(k);
+    const double *a0 = xof(ao), *a1 = xof(ia);
     const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
     const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
     const double uu = ux * ux + uy * uy + uz * uz;
@@ -996,9 +1120,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
     if (px * px + py * py + pz * pz >= dc * dc) continue;
-    const NCF::NodeContact c = NCF::node_contact(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[kp]), Vec3(x[k]),
-                                                 Vec3(x[kq]), dc, kn[itype][ktype], ramp_frac * dc,
-                                                 core);
+    const NCF::NodeContact c =
+        NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
+                          dc, kn[itype][ktype], ramp_frac * dc, core);
     if (!c.active) continue;
     const int ids[5] = {ao, ia, kp, k, kq};
     for (int m = 0; m < 5; m++) {
@@ -1016,15 +1140,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
   }
 
-  // the new history replaces the old one
-  if (use_history) {
-    double **hist = atom->darray[idx_hist];
-    for (int i = 0; i < nlocal; i++) {
-      const int n = hcount[i];
-      hist[i][0] = n;
-      if (n > 0) memcpy(hist[i] + 1, &hbuf[6 * (size_t) hfirst[i]], sizeof(double) * 6 * n);
-    }
-  }
+  // the new history replaces the old one in the per-atom store (read by the take-over of the
+  // next step, and carried by LAMMPS through migration, sorting and restart files)
+  if (use_history) store_history();
 
   if (fatom_flag) {
     comm_mode = COMM_FORCE;

@@ -78,11 +78,18 @@ class PairNCFContact : public Pair {
 
   // per-step work arrays
   std::vector<double> endext;    // per local+ghost atom: extension at a free chain end [m]
-  std::vector<int> segp;       // per local+ghost atom, 2 slots: partner index of owned segments
-  std::vector<int> nbr;        // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
-  std::vector<double> hbuf;    // new history of the step: 6 values per contact
-  std::vector<int> hfirst, hcount;    // per owned atom: its first contact in hbuf, and count
+  std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
+  std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
+  // friction history per entry of the pair list between two list builds (loaded from the
+  // per-atom store at the build); the per-atom store is rewritten from it at every step
+  std::vector<double> phist;    // per pair list entry: its slot of the per-atom row (A's partner
+                                // tag, B's tags, slip vector) as of the last step
+  std::vector<unsigned char> pact;    // per pair list entry: 1 if the law was active last step
+  std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
+  std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
+  std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
+  std::vector<double> xd;    // per local+ghost atom: position and displacement bound of the step
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
@@ -103,13 +110,15 @@ class PairNCFContact : public Pair {
 
   void allocate();
   void build_lists();
+  void load_history();
+  void store_history();
   void create_stores();
   void fill_topology();
   void find_lmax();
   void set_segments();
-  const double *find_slip(tagint owner, tagint ohi, tagint blo, tagint bhi) const;
   const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
-  bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip) const;
+  bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                    bool local_only) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
 };
 

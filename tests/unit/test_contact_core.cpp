@@ -162,8 +162,8 @@ TEST(ContactCore, ParallelForceRisesToDeepPenetration)
 {
   // plain law: k_n h r / D per length, h = (D^2 - r^2) / 2D; it peaks at r = D / sqrt(3)
   const double r0 = 0.95 * D;
-  EXPECT_NEAR(parallel_force_per_length(r0, 0.0),
-              KN * (D * D - r0 * r0) / (2.0 * D) * r0 / D, 1e-9 * KN * D);
+  EXPECT_NEAR(parallel_force_per_length(r0, 0.0), KN * (D * D - r0 * r0) / (2.0 * D) * r0 / D,
+              1e-9 * KN * D);
   // with the core the force per length keeps rising down to r = 0.36 D (penetration 0.64 D)
   double prev = 0.0, prev_plain = 0.0;
   bool plain_falls = false;
