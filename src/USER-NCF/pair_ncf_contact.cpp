@@ -723,8 +723,6 @@ void PairNCFContact::build_lists()
     if (total <= 8.0 * all.size() + 1000.0) break;
     for (int d = 0; d < 3; d++) bs[d] *= 1.5;
   }
-  int reachb[3];
-  for (int d = 0; d < 3; d++) reachb[d] = (int) std::ceil(reachd[d] / bs[d]);
   auto cellof = [&](const double *m, int *c) {
     for (int d = 0; d < 3; d++) c[d] = MAX(0, MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bs[d])));
   };
@@ -774,11 +772,19 @@ void PairNCFContact::build_lists()
     const tagint ta = sa.tag, tpa = sa.ptag;
     const std::array<double, 6> &ba = box[na];
     const double ha = halfl[na];
-    int c[3];
-    cellof(sa.m, c);
-    const int z0 = MAX(0, c[2] - reachb[2]), z1 = MIN(nb[2] - 1, c[2] + reachb[2]);
-    const int y0 = MAX(0, c[1] - reachb[1]), y1 = MIN(nb[1] - 1, c[1] + reachb[1]);
-    const int x0 = MAX(0, c[0] - reachb[0]), x1 = MIN(nb[0] - 1, c[0] + reachb[0]);
+    // the bins that can hold a centre within ext_A + (largest ext_B) + reach + skin of A's
+    // centre (the cell index is monotonic in the position): in a layered mat a segment along x
+    // searches a narrower band in y than one along y, and vice versa
+    double rlo[3], rhi[3];
+    for (int d = 0; d < 3; d++) {
+      const double range = ba[3 + d] + extmax[d] + margin;
+      rlo[d] = ba[d] - range;
+      rhi[d] = ba[d] + range;
+    }
+    int c0[3], c1[3];
+    cellof(rlo, c0);
+    cellof(rhi, c1);
+    const int z0 = c0[2], z1 = c1[2], y0 = c0[1], y1 = c1[1], x0 = c0[0], x1 = c1[0];
     for (int cz = z0; cz <= z1; cz++)
       for (int cy = y0; cy <= y1; cy++) {
         const int row = (cz * nb[1] + cy) * nb[0];
@@ -804,6 +810,13 @@ void PairNCFContact::build_lists()
             continue;
           const int k = sb.owner, ia = segp[2 * ao + sa.slot];
           const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          // the node within dcap of A's bounding box first (most candidates are not; margin for
+          // the round-off of the box)
+          const double dbox = dcap * (1.0 + 1e-9);
+          if (std::fabs(x[k][0] - ba[0]) > ba[3] + dbox ||
+              std::fabs(x[k][1] - ba[1]) > ba[4] + dbox ||
+              std::fabs(x[k][2] - ba[2]) > ba[5] + dbox)
+            continue;
           const NCF::ClosestPoints cp =
               NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
           if (cp.dist2 >= dcap * dcap) continue;
