@@ -46,6 +46,43 @@ namespace {
     return true;
   }
 
+  // The radial profile of the law with its optional core (ncf_contact.h): for a squared distance
+  // r2 from the axis (or node), hh = h^2/2 + kappa h_c^2/2 and hd = -2 d(hh)/d(r2)
+  // = h/D + kappa h_c/D_c, with h = (D^2 - r2)/(2D) > 0 and h_c = (D_c^2 - r2)/(2 D_c) > 0.
+  struct Profile {
+    double d2, inv2d, invd;         // D^2, 1/(2D), 1/D
+    double c2, inv2c, invc, kap;    // the same for D_c; kappa (0: no core)
+    Profile(double dc, double core) :
+        d2(dc * dc), inv2d(0.5 / dc), invd(1.0 / dc), c2(CORE_FRACTION * CORE_FRACTION * d2),
+        inv2c(0.5 / (CORE_FRACTION * dc)), invc(1.0 / (CORE_FRACTION * dc)), kap(core)
+    {
+    }
+    // false where r2 >= D^2 (no contact)
+    bool at(double r2, double &hh, double &hd) const
+    {
+      const double h = (d2 - r2) * inv2d;
+      if (!(h > 0.0)) return false;
+      hh = 0.5 * h * h;
+      hd = h * invd;
+      if (kap > 0.0 && r2 < c2) {
+        const double hc = (c2 - r2) * inv2c;
+        hh += 0.5 * kap * hc * hc;
+        hd += kap * hc * invc;
+      }
+      return true;
+    }
+    // the core's boundary (r2 = D_c^2) along a line with r2(xi) = qa xi^2 + qb xi + qc: its
+    // crossings inside (lo, hi) appended to the break points
+    void core_breaks(double qa, double qb, double qc, double tiny, double lo, double hi,
+                     double *brk, int &nb) const
+    {
+      double clo, chi;
+      if (!(kap > 0.0) || !negative_interval(qa, qb, qc - c2, tiny, clo, chi)) return;
+      if (clo > lo && clo < hi) brk[nb++] = clo;
+      if (chi > lo && chi < hi) brk[nb++] = chi;
+    }
+  };
+
 }    // namespace
 
 namespace {
@@ -91,15 +128,8 @@ namespace {
     int nb = 0;
     brk[nb++] = lo;
     // the core's boundary r = D_c is a break point as well
-    const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
-    const bool with_core = core > 0.0;
-    if (with_core) {
-      double clo, chi;
-      if (negative_interval(qa_, qb_, qc_ - dcc2, 1e-28 * la * la, clo, chi)) {
-        if (clo > lo && clo < hi) brk[nb++] = clo;
-        if (chi > lo && chi < hi) brk[nb++] = chi;
-      }
-    }
+    const Profile prof(dc, core);
+    prof.core_breaks(qa_, qb_, qc_, 1e-28 * la * la, lo, hi, brk, nb);
     if (std::fabs(s1) > 1e-14 * la) {
       const double inv_s1 = 1.0 / s1;
       const double corners[3] = {e, lb - e, 0.5 * lb};
@@ -125,7 +155,6 @@ namespace {
     double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
     double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
     double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
-    const double inv2dc = 0.5 / dc, invdc = 1.0 / dc, inv2dcc = 0.5 / dcc, invdcc = 1.0 / dcc;
 
     for (int k = 0; k + 1 < nb; k++) {
       const double half = 0.5 * (brk[k + 1] - brk[k]);
@@ -136,15 +165,9 @@ namespace {
         const double om = half * gw[q];
         const double s = s0 + s1 * xi;
         const double r2 = norm2(r0 + xi * r1);
-        double h = (d2 - r2) * inv2dc;
-        if (h < 0.0) h = 0.0;
-        // energy density hh = h^2/2 (+ kappa h_c^2/2) and its slope -d(hh)/d(r^2) * 2 = hd
-        double hh = 0.5 * h * h, hd = h * invdc;
-        if (with_core && r2 < dcc2) {
-          const double hc = (dcc2 - r2) * inv2dcc;
-          hh += 0.5 * core * hc * hc;
-          hd += core * hc * invdcc;
-        }
+        // energy density hh and its slope hd (zero outside D)
+        double hh = 0.0, hd = 0.0;
+        prof.at(r2, hh, hd);
         // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
         const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
         const bool ramp_a = wa <= wb;
@@ -357,16 +380,8 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   double brk[26];
   int nb = 0;
   brk[nb++] = lo;
-  const double dcc = CORE_FRACTION * dc, dcc2 = dcc * dcc;
-  const bool with_core = core > 0.0;
-  if (with_core) {    // the core's boundary |x - n| = D_c
-    double clo, chi;
-    if (negative_interval(norm2(da), 2.0 * dot(w0, da), norm2(w0) - dcc2, 1e-28 * la * la, clo,
-                          chi)) {
-      if (clo > lo && clo < hi) brk[nb++] = clo;
-      if (chi > lo && chi < hi) brk[nb++] = chi;
-    }
-  }
+  const Profile prof(dc, core);    // the core's boundary |x - n| = D_c is a break point
+  prof.core_breaks(norm2(da), 2.0 * dot(w0, da), norm2(w0), 1e-28 * la * la, lo, hi, brk, nb);
   const double c1[5] = {-e, e, l1 - e, l1 + e, 0.5 * l1}, c2[5] = {-e, e, l2 - e, l2 + e, 0.5 * l2};
   for (int k = 0; k < 5; k++) {
     if (std::fabs(s11) > 1e-14 * la) {
@@ -426,16 +441,9 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
       const double def = 1.0 - w1.w - w2.w - DEFICIT_TOL;    // round-off of straight chains
       if (def <= 0.0) continue;
       const Vec3 rn = x - n;
-      const double rr = norm2(rn);
-      double h = (d2 - rr) / (2.0 * dc);
-      if (h <= 0.0) continue;
-      // energy density hh (+ the core) and hd = -2 d(hh)/d(r^2)
-      double hh = 0.5 * h * h, hd = h / dc;
-      if (with_core && rr < dcc2) {
-        const double hc = (dcc2 - rr) / (2.0 * dcc);
-        hh += 0.5 * core * hc * hc;
-        hd += core * hc / dcc;
-      }
+      // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
+      double hh, hd;
+      if (!prof.at(norm2(rn), hh, hd)) continue;
       // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
       // through straight (the deficit grows like the kink angle)
       const double dd = def * def, ddp = 2.0 * def * hh;

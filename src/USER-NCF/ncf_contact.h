@@ -53,6 +53,10 @@ namespace NCF {
 //   segment's contact is computed and its node forces are mapped back to the real nodes by the
 //   chain rule (exact: force = -dE/dx, force and moment balance kept).
 constexpr double CORE_FRACTION = 0.57735026918962576;    // 1 / sqrt(3)
+// pair_style ncf/contact defaults of the two options (the generator keeps chains clear of the
+// end caps of this size)
+constexpr double DEFAULT_CORE = 10.0;     // kappa
+constexpr double DEFAULT_ENDCAP = 0.5;    // extension at a free end, in diameters of the chain
 struct ContactOptions {
   double core = 0.0;
   double ext[4] = {0.0, 0.0, 0.0, 0.0};

@@ -74,8 +74,8 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   one_coeff = 0;
   manybody_flag = 0;
   ramp_frac = 0.25;
-  core = 10.0;
-  endcap_frac = 0.5;
+  core = NCF::DEFAULT_CORE;
+  endcap_frac = NCF::DEFAULT_ENDCAP;
   lmax_user = 0.0;
   maxcontacts = 24;
   fatom_flag = 0;

@@ -24,9 +24,9 @@ using namespace contactscene;
 
 namespace {
 
-const double RAMP_FRAC = 0.25;      // pair_style defaults: ramp, core, endcap
-const double CORE = 10.0;
-const double ENDCAP_FRAC = 0.5;
+const double RAMP_FRAC = 0.25;    // pair_style defaults: ramp, core, endcap
+const double CORE = NCF::DEFAULT_CORE;
+const double ENDCAP_FRAC = NCF::DEFAULT_ENDCAP;
 
 struct Brute {
   int contacts = 0, caps = 0;
@@ -73,8 +73,7 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
       opt.core = CORE;
       const int nodes[4] = {A.a0, A.a1, B.a0, B.a1};
       for (int k = 0; k < 4; k++) opt.ext[k] = free_end[nodes[k]] ? ENDCAP_FRAC * dc : 0.0;
-      const auto c =
-          NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
+      const auto c = NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
       if (!c.active) continue;
       out.contacts++;
       out.energy += c.energy;
@@ -85,8 +84,8 @@ Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x
       for (int m : pnq) excluded = excluded || m == A.a0 || m == A.a1;
       if (excluded) continue;
       const NCF::Vec3 sh = image(a0, P(pnq[1]));
-      const auto c =
-          NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc, kn, e, CORE);
+      const auto c = NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc,
+                                       kn, e, CORE);
       if (!c.active) continue;
       out.caps++;
       out.energy += c.energy;

@@ -6,6 +6,8 @@
 #include "ncfgen.h"
 #include "ncfgen_geom.h"
 
+#include "ncf_contact.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,8 +22,6 @@ namespace {
   constexpr double DEG = PI / 180.0;
   constexpr double INCH = 0.0254;
   constexpr double MARGIN = 1e-6;    // relative clearance margin above the contact diameter
-  // extension of a free chain end by pair_style ncf/contact (its endcap default), in diameters
-  constexpr double ENDCAP_FRACTION = 0.5;
 
   // ---------------------------------------------------------------- random numbers
   // mt19937_64 is specified bit for bit by the standard; the transforms below are our own, so a
@@ -221,12 +221,12 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       for (int j = 0; j < nseg; j++)
         pts[k].push_back({p0[0] + (j + 0.5) * h * dir[0], p0[1] + (j + 0.5) * h * dir[1]});
       // the line spans the chain with its end caps: pair ncf/contact extends a free end segment
-      // by ENDCAP_FRACTION diameters along its axis (pair_style default), so chains must also
+      // by NCF::DEFAULT_ENDCAP diameters along its axis (pair_style default), so chains must also
       // keep clear of each other there
       Line &L = lines[k];
       for (int d = 0; d < 2; d++) {
-        L.p0[d] = pts[k].front()[d] - ENDCAP_FRACTION * dc * dir[d];
-        L.p1[d] = pts[k].back()[d] + ENDCAP_FRACTION * dc * dir[d];
+        L.p0[d] = pts[k].front()[d] - NCF::DEFAULT_ENDCAP * dc * dir[d];
+        L.p1[d] = pts[k].back()[d] + NCF::DEFAULT_ENDCAP * dc * dir[d];
       }
       L.bb[0] = std::min(L.p0[0], L.p1[0]);
       L.bb[1] = std::max(L.p0[0], L.p1[0]);
