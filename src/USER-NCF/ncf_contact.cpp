@@ -83,6 +83,30 @@ namespace {
     }
   };
 
+  // Break points of the piecewise polynomial integrands come as short lists that are each
+  // already in order, so they are merged instead of sorted (a sort of random values mispredicts
+  // most of its branches).
+  //
+  // the positions xi = (c_k - s0) / s1 where the arc position s(xi) = s0 + s1 xi along a line
+  // takes the values c_0 <= c_1 <= ... (inv_s1 = 1 / s1, never 0), inside (lo, hi), appended to
+  // out in increasing xi
+  inline void line_breaks(const double *c, int n, double s0, double inv_s1, double lo, double hi,
+                          double *out, int &nout)
+  {
+    for (int k = 0; k < n; k++) {
+      const double x = (c[inv_s1 > 0.0 ? k : n - 1 - k] - s0) * inv_s1;
+      if (x > lo && x < hi) out[nout++] = x;
+    }
+  }
+  // merge of two increasing lists into out (after the nout values already there)
+  inline void merge_breaks(const double *a, int na, const double *b, int nb, double *out, int &nout)
+  {
+    int i = 0, j = 0;
+    while (i < na && j < nb) out[nout++] = a[i] <= b[j] ? a[i++] : b[j++];
+    while (i < na) out[nout++] = a[i++];
+    while (j < nb) out[nout++] = b[j++];
+  }
+
 }    // namespace
 
 namespace {
@@ -93,26 +117,34 @@ namespace {
     SegmentContact out;
     if (!(dc > 0.0) || !(ramp > 0.0)) return out;
     const Vec3 da = a1 - a0, u = b1 - b0;
-    const double la = norm(da), lb = norm(u);
-    if (!(la > MIN_LENGTH * dc) || !(lb > MIN_LENGTH * dc)) return out;
-    const double inv_lb = 1.0 / lb;
-    const Vec3 ea = (1.0 / la) * da, eb = inv_lb * u;
+    const double la2 = norm2(da), lb2 = norm2(u);
+    const double lmin2 = MIN_LENGTH * MIN_LENGTH * dc * dc;
+    if (!(la2 > lmin2) || !(lb2 > lmin2)) return out;
 
-    // along A: s(xi) = s0 + s1 xi (arc position on B's line), r(xi) = r0 + xi r1 (offset from it)
+    // along A: t(xi) = t0 + t1 xi (position on B's line as a fraction of L_B), r(xi) = r0 + xi r1
+    // (offset from it). The cheap rejections come first: no square root before A's line is
+    // known to come within D of B's line inside A
+    const double inv_lb2 = 1.0 / lb2;
     const Vec3 w0 = a0 - b0;
-    const double s0 = dot(w0, eb), s1 = dot(da, eb);
-    const Vec3 r0 = w0 - s0 * eb, r1 = da - s1 * eb;
+    const double t0 = dot(w0, u) * inv_lb2, t1 = dot(da, u) * inv_lb2;
+    const Vec3 r0 = w0 - t0 * u, r1 = da - t1 * u;
     const double d2 = dc * dc;
-    const double qa_ = norm2(r1), qb_ = 2.0 * dot(r0, r1), qc_ = norm2(r0);
-
+    const double qa = norm2(r1), qb = 2.0 * dot(r0, r1), qc = norm2(r0);
+    const double tiny = 1e-28 * la2;
     double lo, hi;
-    if (!negative_interval(qa_, qb_, qc_ - d2, 1e-28 * la * la, lo, hi)) return out;
+    if (!negative_interval(qa, qb, qc - d2, tiny, lo, hi)) return out;
     lo = std::max(lo, 0.0);
     hi = std::min(hi, 1.0);
-    // where the weight W(s) is non-zero: -e < s < lb + e
+    if (!(hi > lo)) return out;
+    // arc position on B's line: s(xi) = s0 + s1 xi; where the weight W(s) is non-zero:
+    // -e < s < lb + e
+    const double inv_lb = std::sqrt(inv_lb2), lb = lb2 * inv_lb, la = std::sqrt(la2);
+    const double s0 = t0 * lb, s1 = t1 * lb;
     const double e = ramp;
-    if (std::fabs(s1) > 1e-14 * la) {
-      double x1 = (-e - s0) / s1, x2 = (lb + e - s0) / s1;
+    const bool sloped = std::fabs(s1) > 1e-14 * la;
+    const double inv_s1 = sloped ? 1.0 / s1 : 0.0;
+    if (sloped) {
+      double x1 = (-e - s0) * inv_s1, x2 = (lb + e - s0) * inv_s1;
       if (x1 > x2) std::swap(x1, x2);
       lo = std::max(lo, x1);
       hi = std::min(hi, x2);
@@ -124,24 +156,25 @@ namespace {
     // break points of the piecewise polynomial integrand: the kinks of W = clamp(min(wa, wb), 0, 1)
     // inside (lo, hi). W reaches 0 at s = -e and lb + e, which bound (lo, hi) already; it reaches 1
     // at s = e and lb - e; wa = wb at s = lb/2 is a kink only where W < 1 there (lb < 2e)
-    double brk[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    int nb = 0;
-    brk[nb++] = lo;
-    // the core's boundary r = D_c is a break point as well
-    const Profile prof(dc, core);
-    prof.core_breaks(qa_, qb_, qc_, 1e-28 * la * la, lo, hi, brk, nb);
-    if (std::fabs(s1) > 1e-14 * la) {
-      const double inv_s1 = 1.0 / s1;
-      const double corners[3] = {e, lb - e, 0.5 * lb};
-      const int ncorner = lb < 2.0 * e ? 3 : 2;
-      for (int k = 0; k < ncorner; k++) {
-        const double x = (corners[k] - s0) * inv_s1;
-        if (x > lo && x < hi) brk[nb++] = x;
+    double cbrk[3], kbrk[2];
+    int ncb = 0, nkb = 0;
+    if (sloped) {
+      if (lb >= 2.0 * e) {
+        const double corners[2] = {e, lb - e};
+        line_breaks(corners, 2, s0, inv_s1, lo, hi, cbrk, ncb);
+      } else {
+        const double corners[3] = {lb - e, 0.5 * lb, e};
+        line_breaks(corners, 3, s0, inv_s1, lo, hi, cbrk, ncb);
       }
     }
+    // the core's boundary r = D_c is a break point as well
+    const Profile prof(dc, core);
+    prof.core_breaks(qa, qb, qc, tiny, lo, hi, kbrk, nkb);
+    double brk[7];
+    int nb = 0;
+    brk[nb++] = lo;
+    merge_breaks(cbrk, ncb, kbrk, nkb, brk, nb);
     brk[nb++] = hi;
-    for (int a = 1; a < nb; a++)    // insertion sort of at most 7 values
-      for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
 
     static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
     static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
@@ -149,57 +182,61 @@ namespace {
 
     // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
     // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
-    // scalar moments summed over the Gauss points (per point: c = om h W / D, p = om h^2 W / 2,
-    // q = om h^2 W' / 2 split by the active ramp, a at B0 or b at B1):
+    // scalar moments summed over the Gauss points (per point: c = om hd W, p = om hh W,
+    // q = om hh W' split by the active ramp, a at B0 or b at B1):
     double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
     double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
     double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
-    double M0 = 0.0, M1 = 0.0, MS = 0.0;                  // sum c |r|, c |r| xi, c |r| s
 
     for (int k = 0; k + 1 < nb; k++) {
       const double half = 0.5 * (brk[k + 1] - brk[k]);
       if (!(half > 0.0)) continue;
       const double mid = 0.5 * (brk[k + 1] + brk[k]);
+      // W and the core are each one polynomial on the piece: their branch is taken at its middle
+      // wr: 0 plateau (W = 1), 1 ramp at B0 (W = wa), 2 ramp at B1 (W = wb)
+      const double smid = s0 + s1 * mid;
+      const double wamid = 0.5 + smid * inv2e, wbmid = 0.5 + (lb - smid) * inv2e;
+      const double wmid = std::min(wamid, wbmid);
+      if (!(wmid > 0.0)) continue;
+      const int wr = wmid >= 1.0 ? 0 : (wamid <= wbmid ? 1 : 2);
+      const bool incore = prof.kap > 0.0 && (qa * mid + qb) * mid + qc < prof.c2;
+      double wsum = 0.0, psum = 0.0, qsum = 0.0, qxsum = 0.0, csum = 0.0, cxsum = 0.0, cxxsum = 0.0;
       for (int q = 0; q < 3; q++) {
         const double xi = mid + half * gx[q];
         const double om = half * gw[q];
+        const double r2 = (qa * xi + qb) * xi + qc;
+        // energy density hh = h^2/2 (+ kappa h_c^2/2) and hd = -2 d(hh)/d(r2)
+        const double h = std::max(0.0, (d2 - r2) * prof.inv2d);
+        double hh = 0.5 * h * h, hd = h * prof.invd;
+        if (incore) {
+          const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+          hh += 0.5 * prof.kap * hc * hc;
+          hd += prof.kap * hc * prof.invc;
+        }
         const double s = s0 + s1 * xi;
-        const double r2 = norm2(r0 + xi * r1);
-        // energy density hh and its slope hd (zero outside D)
-        double hh = 0.0, hd = 0.0;
-        prof.at(r2, hh, hd);
-        // weight W = clamp(min(wa, wb), 0, 1) and its slope where a ramp is active
-        const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-        const bool ramp_a = wa <= wb;
-        double w = ramp_a ? wa : wb;
-        bool inramp = false;
-        if (w >= 1.0) {
-          w = 1.0;
-        } else if (w <= 0.0) {
-          continue;
-        } else {
-          inramp = true;
-        }
-        L0 += om * w;
-        P0 += om * hh * w;
-        const double c = om * hd * w;
-        C0 += c;
-        C1 += c * xi;
-        C2 += c * xi * xi;
-        if (inramp) {
-          const double qv = om * hh * inv2e;
-          if (ramp_a) {
-            QA0 += qv;
-            QA1 += qv * xi;
-          } else {
-            QB0 += qv;
-            QB1 += qv * xi;
-          }
-        }
-        const double cr = c * std::sqrt(r2);
-        M0 += cr;
-        M1 += cr * xi;
-        MS += cr * s;
+        const double w = wr == 0 ? 1.0 : (wr == 1 ? 0.5 + s * inv2e : 0.5 + (lb - s) * inv2e);
+        const double omw = om * w;
+        wsum += omw;
+        psum += omw * hh;
+        const double c = omw * hd;
+        csum += c;
+        cxsum += c * xi;
+        cxxsum += c * xi * xi;
+        const double qv = om * hh;
+        qsum += qv;
+        qxsum += qv * xi;
+      }
+      L0 += wsum;
+      P0 += psum;
+      C0 += csum;
+      C1 += cxsum;
+      C2 += cxxsum;
+      if (wr == 1) {
+        QA0 += qsum * inv2e;
+        QA1 += qxsum * inv2e;
+      } else if (wr == 2) {
+        QB0 += qsum * inv2e;
+        QB1 += qxsum * inv2e;
       }
     }
     const double energy = kn * la * P0, length = la * L0;
@@ -208,13 +245,14 @@ namespace {
     // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
     // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
     // eb - r/lb for the ramp at B1) and through la
+    const Vec3 eb = inv_lb * u;
     const double K = kn * la;
     const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
     const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
     const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
     const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
     const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
-    const Vec3 lpart = (kn * P0) * ea;
+    const Vec3 lpart = (kn * P0 / la) * da;
     Vec3 g[4];
     g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
     g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
@@ -226,33 +264,35 @@ namespace {
     out.energy = energy;
     for (int n = 0; n < 4; n++) out.f[n] = -g[n];
     out.length = length;
-    if (M0 > 0.0) {
-      out.xi = M1 / M0;
-      out.t = clamp01(MS / M0 * inv_lb);
+    // contact point: the centroid of the penetration density c (zero at the rim of the zone)
+    if (C0 > 0.0) {
+      out.xi = C1 / C0;
     } else {
       out.xi = 0.5 * (lo + hi);
-      out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
     }
+    out.t = clamp01((s0 + s1 * out.xi) * inv_lb);
     // normal direction: the offset from B's line of the point of A's line closest to it (the
     // common perpendicular of the two lines), that point being kept within one contact distance
     // of this pair's contact zone on A. Two pairs that share one contact (a crossing on a node of
     // A, or of B) therefore take the same normal and their normal forces add up without loss or
     // excess; for (nearly) parallel segments it is the offset at the end of the zone nearest to
     // B's line. Where the axes touch: the direction of the resultant.
-    const double qa = norm2(r1);
     double xs = 0.5 * (lo + hi);
-    if (qa > 1e-28 * la * la) {
+    if (qa > tiny) {
       const double ext = dc / la;
-      xs = std::min(hi + ext, std::max(lo - ext, -dot(r0, r1) / qa));
+      xs = std::min(hi + ext, std::max(lo - ext, -0.5 * qb / qa));
     }
     const Vec3 rs = r0 + xs * r1;
-    const double rn = norm(rs), fr = norm(fres);
-    if (rn > 1e-9 * dc) {
-      out.normal = (1.0 / rn) * rs;
+    const double rn2 = norm2(rs);
+    if (rn2 > 1e-18 * d2) {
+      out.normal = (1.0 / std::sqrt(rn2)) * rs;
       out.fn = std::max(0.0, dot(fres, out.normal));
-    } else if (fr > 0.0) {
-      out.normal = (1.0 / fr) * fres;
-      out.fn = fr;
+    } else {
+      const double fr = norm(fres);
+      if (fr > 0.0) {
+        out.normal = (1.0 / fr) * fres;
+        out.fn = fr;
+      }
     }
     if (with_penetration) {
       const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
@@ -377,31 +417,37 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
   const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
-  double brk[26];
+  // the corners of the two weights (in increasing arc position: -e, e, l/2, l - e, l + e, or
+  // -e, l - e, l/2, e, l + e for a segment shorter than 2e), then the core's boundary
+  // |x - n| = D_c: three increasing lists, merged
+  double b1[5], b2[5], b12[10], kb[2];
+  int n1 = 0, n2 = 0, n12 = 0, nk = 0;
+  auto corners = [e](double l, double *c) {
+    c[0] = -e;
+    c[1] = std::min(e, l - e);
+    c[2] = 0.5 * l;
+    c[3] = std::max(e, l - e);
+    c[4] = l + e;
+  };
+  double c1[5], c2[5];
+  corners(l1, c1);
+  corners(l2, c2);
+  if (std::fabs(s11) > 1e-14 * la) line_breaks(c1, 5, s10, 1.0 / s11, lo, hi, b1, n1);
+  if (std::fabs(s21) > 1e-14 * la) line_breaks(c2, 5, s20, 1.0 / s21, lo, hi, b2, n2);
+  merge_breaks(b1, n1, b2, n2, b12, n12);
+  const Profile prof(dc, core);
+  prof.core_breaks(norm2(da), 2.0 * dot(w0, da), norm2(w0), 1e-28 * la * la, lo, hi, kb, nk);
+  double brk[14];
   int nb = 0;
   brk[nb++] = lo;
-  const Profile prof(dc, core);    // the core's boundary |x - n| = D_c is a break point
-  prof.core_breaks(norm2(da), 2.0 * dot(w0, da), norm2(w0), 1e-28 * la * la, lo, hi, brk, nb);
-  const double c1[5] = {-e, e, l1 - e, l1 + e, 0.5 * l1}, c2[5] = {-e, e, l2 - e, l2 + e, 0.5 * l2};
-  for (int k = 0; k < 5; k++) {
-    if (std::fabs(s11) > 1e-14 * la) {
-      const double x = (c1[k] - s10) / s11;
-      if (x > lo && x < hi) brk[nb++] = x;
-    }
-    if (std::fabs(s21) > 1e-14 * la) {
-      const double x = (c2[k] - s20) / s21;
-      if (x > lo && x < hi) brk[nb++] = x;
-    }
-  }
+  merge_breaks(b12, n12, kb, nk, brk, nb);
   brk[nb++] = hi;
-  for (int a = 1; a < nb; a++)
-    for (int b = a; b > 0 && brk[b] < brk[b - 1]; b--) std::swap(brk[b], brk[b - 1]);
   // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
   auto deficit = [&](double xi) {
     const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
     return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
   };
-  double pts[52];
+  double pts[28];
   int np = 0;
   double fa = deficit(brk[0]), defmax = fa;
   for (int k = 0; k + 1 < nb; k++) {

@@ -69,7 +69,8 @@ struct SegmentContact {
   double fn = 0.0;             // normal force on A along `normal` (>= 0) [N]
   Vec3 normal;                 // unit normal: from B's line to the point of A in contact closest to
                                // it; the direction of the resultant where the axes touch
-  double xi = 0.0;             // contact point on A: A0 + xi (A1 - A0), force-weighted centroid
+  double xi = 0.0;             // contact point on A: A0 + xi (A1 - A0), centroid of the
+                               // penetration density (h W along A)
   double t = 0.0;              // contact point on B: B0 + t (B1 - B0), in [0, 1] (with
                                // extensions: in [-ext_b0 / L_B, 1 + ext_b1 / L_B])
   double length = 0.0;         // contact length l_c = integral of W over the penetrated part [m]

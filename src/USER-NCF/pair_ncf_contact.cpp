@@ -38,6 +38,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -947,19 +948,29 @@ void PairNCFContact::compute(int eflag, int vflag)
   // bound is beyond its reach needs no test this step, and one within D minus it no prefilter
   // Positions and displacement bounds are packed per node into one array (x, y, z, bound), so
   // that the random accesses of the list loops fetch one cache line per node.
-  xd.resize(4 * (size_t) nall);
+  // Per node, one cache line of 8 doubles (x, y, z, displacement bound, vx, vy, vz, end-cap
+  // extension), so that the random accesses of the list loops fetch one line per node.
+  constexpr int NR = 8;
+  xd.resize(NR * (size_t) nall + NR);
+  double *const X = xd.data() + ((64 - ((uintptr_t) xd.data() & 63)) & 63) / sizeof(double);
   double dmove2 = 0.0;
   for (int k = 0; k < nall; k++) {
     const double *xb = &xbuild[3 * (size_t) k];
     const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
     const double d2 = dx * dx + dy * dy + dz * dz;
     dmove2 = MAX(dmove2, d2);
-    double *xk = &xd[4 * (size_t) k];
+    double *xk = X + NR * (size_t) k;
     xk[0] = x[k][0];
     xk[1] = x[k][1];
     xk[2] = x[k][2];
     // (relative margin for the round-off of the distances)
     xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
+    if (use_velocity) {
+      xk[4] = v[k][0];
+      xk[5] = v[k][1];
+      xk[6] = v[k][2];
+    }
+    xk[7] = endext[k];
     // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
     // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
     if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
@@ -969,18 +980,22 @@ void PairNCFContact::compute(int eflag, int vflag)
                  "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                  std::sqrt(dmove2), neighbor->skin);
   }
-  const double *X = xd.data();
   // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
   // node data are loaded
   const double dglob = 2.0 * (std::sqrt(dmove2) * (1.0 + 1e-12) + 0.5e-12 * reach_max);
-  double dcmax = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) dcmax = MAX(dcmax, diameter[i]);
+  // largest contact distance and largest reach of the law (D (1 + ramp), without the end caps:
+  // the distances d of the pair list are net of the extensions)
+  double dcmax = 0.0, reach_law = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    dcmax = MAX(dcmax, diameter[i]);
+    for (int j = i; j <= atom->ntypes; j++) reach_law = MAX(reach_law, reachf[i][j]);
+  }
   auto xof = [X](int k) {
-    return X + 4 * (size_t) k;
+    return X + NR * (size_t) k;
   };
   auto dm = [X](int k) {
-    return X[4 * (size_t) k + 3];
+    return X[NR * (size_t) k + 3];
   };
 
   // every owned segment within the length the cutoffs were sized for
@@ -1019,10 +1034,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
     NCF::ContactOptions opt;
     opt.core = core;
-    opt.ext[0] = endext[ao];
-    opt.ext[1] = endext[ia];
-    opt.ext[2] = endext[bo];
-    opt.ext[3] = endext[jb];
+    opt.ext[0] = xof(ao)[7];
+    opt.ext[1] = xof(ia)[7];
+    opt.ext[2] = xof(bo)[7];
+    opt.ext[3] = xof(jb)[7];
     // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
     // that were not in contact in the previous step (most that were still are)
     const bool was_active = pact[e] != 0;
@@ -1039,8 +1054,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     double espring = 0.0;
     if (use_velocity && c.fn > 0.0) {
       const double xi = c.xi, t = c.t;
-      const Vec3 vrel = ((1.0 - xi) * Vec3(v[ao]) + xi * Vec3(v[ia])) -
-          ((1.0 - t) * Vec3(v[bo]) + t * Vec3(v[jb]));
+      const Vec3 vrel = ((1.0 - xi) * Vec3(xof(ao) + 4) + xi * Vec3(xof(ia) + 4)) -
+          ((1.0 - t) * Vec3(xof(bo) + 4) + t * Vec3(xof(jb) + 4));
       Vec3 ftot;
       double fn = c.fn;
       if (damp[itype][jtype] > 0.0) {
@@ -1096,8 +1111,17 @@ void PairNCFContact::compute(int eflag, int vflag)
     return false;
   };
   const int npairs = (int) plist.size();
+  // the node records of B (random places in memory) are requested a few entries ahead
+  constexpr int AHEAD = 8;
   for (int e = 0; e < npairs; e++) {
-    if (plist[e].d - dglob >= reach_max) {
+    if (e + AHEAD < npairs) {
+      const PairCand &pf = plist[e + AHEAD];
+      __builtin_prefetch(xof(pf.b0));
+      __builtin_prefetch(xof(pf.b1));
+      __builtin_prefetch(f[pf.b0]);
+      __builtin_prefetch(f[pf.b1]);
+    }
+    if (plist[e].d - dglob >= reach_law) {
       pact[e] = 0;
       if (use_history) phas[e] = 0;
       continue;

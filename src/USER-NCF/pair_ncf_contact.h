@@ -89,7 +89,8 @@ class PairNCFContact : public Pair {
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
-  std::vector<double> xd;    // per local+ghost atom: position and displacement bound of the step
+  std::vector<double> xd;    // per local+ghost atom, one cache line: position, displacement
+                             // bound, velocity, end-cap extension (this step)
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
