@@ -414,6 +414,17 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   hi = std::min(hi, 1.0);
   if (!(hi > lo)) return out;
 
+  // Exact early exit on the concave side of the kink. Where both segments are at least D + e
+  // long, only their ramps at n act within D of n: W1 = c(z1), W2 = c(z2) with c = clamp(., 0, 1),
+  // z1 = 1/2 - (x - n).e1 / 2e, z2 = 1/2 + (x - n).e2 / 2e. Since c(z1) + c(z2) >= min(1, z1 + z2)
+  // for all z1, z2, the deficit 1 - W1 - W2 is at most max(0, (x - n).(e1 - e2) / 2e), which is
+  // linear along A: not above the tolerance at both ends of A's part within D of n, no cap.
+  if (l1 >= dc + e && l2 >= dc + e) {
+    const Vec3 de = e1 - e2;
+    const double g0 = dot(w0 + lo * da, de), g1 = dot(w0 + hi * da, de);
+    if (std::max(g0, g1) * (0.5 / e) <= DEFICIT_TOL) return out;
+  }
+
   // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
   const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
@@ -522,21 +533,26 @@ FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, d
     return out;
   }
   // keep the stored slip in the current tangent plane, with its magnitude
-  const double mag = norm(slip);
-  slip -= dot(slip, normal) * normal;
-  const double mag2 = norm(slip);
-  slip = (mag2 > 0.0) ? (mag / mag2) * slip : Vec3();
+  const double sn = dot(slip, normal);
+  if (sn != 0.0) {
+    const double mag2 = norm2(slip);
+    slip -= sn * normal;
+    const double t2 = norm2(slip);
+    slip = (t2 > 0.0) ? std::sqrt(mag2 / t2) * slip : Vec3();
+  }
   const Vec3 vt = vrel - dot(vrel, normal) * normal;
   slip += dt * vt;
   Vec3 f = -kt * slip;
-  const double fm = norm(f), cap = mu * fn;
-  if (fm > cap) {
-    f = (cap / fm) * f;
+  const double fm2 = norm2(f), cap = mu * fn;
+  if (fm2 > cap * cap) {
+    f = (cap / std::sqrt(fm2)) * f;
     slip = (-1.0 / kt) * f;
     out.sliding = true;
+    out.energy = 0.5 * cap * cap / kt;
+  } else {
+    out.energy = 0.5 * fm2 / kt;
   }
   out.force = f;
-  out.energy = 0.5 * norm2(f) / kt;
   return out;
 }
 
