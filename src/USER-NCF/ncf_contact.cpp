@@ -347,49 +347,23 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
 
 namespace {
   constexpr double DEFICIT_TOL = 1e-9;
-  // weight W of a segment (start b0, unit direction eb, length lb) at arc position s, and the
-  // gradient of its active ramp variable with respect to the point x, b0 and b1 (r: offset of x
-  // from the segment's line)
-  struct Weight {
-    double w = 0.0, wd = 0.0;
-    Vec3 gx, gb0, gb1;
-  };
-  inline Weight weight_of(double s, double lb, double e, const Vec3 &eb, const Vec3 &r)
+  // The weight W = clamp(min(wa, wb), 0, 1) of a segment of length l at arc position s
+  // (wa = 1/2 + s / 2e, wb = 1/2 + (l - s) / 2e) is one of four polynomials: its regime is
+  // 0 zero, 1 the ramp at the first node (W = wa), 2 the ramp at the second (W = wb), 3 plateau
+  inline int weight_regime(double s, double l, double inv2e)
   {
-    Weight out;
-    const double inv2e = 0.5 / e;
-    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-    const Vec3 rl = (1.0 / lb) * r;
-    if (wa <= wb) {
-      out.w = wa;
-      out.gx = eb;
-      out.gb0 = -eb - rl;
-      out.gb1 = rl;
-    } else {
-      out.w = wb;
-      out.gx = -eb;
-      out.gb0 = rl;
-      out.gb1 = eb - rl;
-    }
-    if (out.w >= 1.0) {
-      out.w = 1.0;
-    } else if (out.w <= 0.0) {
-      out.w = 0.0;
-    } else {
-      out.wd = inv2e;
-    }
-    return out;
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (l - s) * inv2e;
+    const double w = std::min(wa, wb);
+    return w >= 1.0 ? 3 : (w <= 0.0 ? 0 : (wa <= wb ? 1 : 2));
   }
-}    // namespace
-
-namespace {
-  // the value of W alone (as in weight_of)
-  inline double weight_value(double s, double lb, double e)
+  inline double weight_in(int reg, double s, double l, double inv2e)
+  {
+    return reg == 3 ? 1.0 : (reg == 0 ? 0.0 : (reg == 1 ? 0.5 + s * inv2e : 0.5 + (l - s) * inv2e));
+  }
+  inline double weight_value(double s, double l, double e)
   {
     const double inv2e = 0.5 / e;
-    const double wa = 0.5 + s * inv2e, wb = 0.5 + (lb - s) * inv2e;
-    const double w = wa <= wb ? wa : wb;
-    return w >= 1.0 ? 1.0 : (w <= 0.0 ? 0.0 : w);
+    return weight_in(weight_regime(s, l, inv2e), s, l, inv2e);
   }
 }    // namespace
 
@@ -481,40 +455,88 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
                                0.8611363115940526};
   static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                0.3478548451374538};
-  Vec3 g[5];
-  double energy = 0.0;
+  // On each piece the weights W1, W2 are each constant, zero or one ramp (branch taken at the
+  // middle of the piece) and the core is in or out, so the integrand is one polynomial: with
+  // x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11, r2 = R20 + xi R21
+  // of x from the two lines, the gradient is a sum of scalar moments times these vectors.
+  // Per point: alpha = om hd dd, beta_k = om ddp W_k' (ramp of segment k, sign sigma_k = +1 at
+  // its first node, -1 at its second), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh)
+  const Vec3 R10 = w0 + (n - p) - s10 * e1, R11 = da - s11 * e1;
+  const Vec3 R20 = w0 - s20 * e2, R21 = da - s21 * e2;
+  const double inv2e = 0.5 / e;
+  double A0 = 0.0, A1 = 0.0, A2 = 0.0, E0 = 0.0;       // sum alpha (1, xi, xi^2); sum eps
+  double S1 = 0.0, S1x = 0.0, B1a = 0.0, B1b = 0.0;    // sum sigma1 beta1 (1, xi); beta1 per ramp
+  double S2 = 0.0, S2x = 0.0, B2a = 0.0, B2b = 0.0;    // the same for segment 2
+  auto regime = [inv2e](double s, double l) {
+    return weight_regime(s, l, inv2e);
+  };
+  auto weight = [inv2e](int reg, double s, double l) {
+    return weight_in(reg, s, l, inv2e);
+  };
   for (int k = 0; k + 1 < np; k++) {
     const double half = 0.5 * (pts[k + 1] - pts[k]);
     if (!(half > 0.0)) continue;
     const double mid = 0.5 * (pts[k + 1] + pts[k]);
+    const int reg1 = regime(s10 + s11 * mid, l1), reg2 = regime(s20 + s21 * mid, l2);
+    const double defmid = 1.0 - weight(reg1, s10 + s11 * mid, l1) -
+        weight(reg2, s20 + s21 * mid, l2) - DEFICIT_TOL;    // round-off of straight chains
+    if (!(defmid > 0.0)) continue;
+    const bool incore = prof.kap > 0.0 && norm2(w0 + mid * da) < prof.c2;
+    double a0s = 0.0, a1s = 0.0, a2s = 0.0, es = 0.0, bs = 0.0, bx = 0.0;
     for (int qd = 0; qd < 4; qd++) {
       const double xi = mid + half * gx[qd];
       const double om = half * gw[qd];
-      const Vec3 x = a0 + xi * da;
       const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-      const Vec3 r1 = x - p - s1 * e1, r2 = x - n - s2 * e2;
-      const Weight w1 = weight_of(s1, l1, e, e1, r1);
-      const Weight w2 = weight_of(s2, l2, e, e2, r2);
-      const double def = 1.0 - w1.w - w2.w - DEFICIT_TOL;    // round-off of straight chains
-      if (def <= 0.0) continue;
-      const Vec3 rn = x - n;
+      const double def =
+          std::max(0.0, 1.0 - weight(reg1, s1, l1) - weight(reg2, s2, l2) - DEFICIT_TOL);
+      const double r2 = norm2(w0 + xi * da);
       // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-      double hh, hd;
-      if (!prof.at(norm2(rn), hh, hd)) continue;
+      const double h = std::max(0.0, (d2 - r2) * prof.inv2d);
+      double hh = 0.5 * h * h, hd = h * prof.invd;
+      if (incore) {
+        const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+        hh += 0.5 * prof.kap * hc * hc;
+        hd += prof.kap * hc * prof.invc;
+      }
       // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
       // through straight (the deficit grows like the kink angle)
-      const double dd = def * def, ddp = 2.0 * def * hh;
-      energy += om * kn * la * hh * dd;
-      // dE/d(x): through h (x and n), through the deficit (x, p, n, q), through la (a0, a1)
-      const Vec3 gxp = kn * la * ((-(hd * dd)) * rn - ddp * (w1.wd * w1.gx + w2.wd * w2.gx));
-      const Vec3 lpart = (om * kn * hh * dd) * ea;
-      g[0] += om * (1.0 - xi) * gxp - lpart;
-      g[1] += om * xi * gxp + lpart;
-      g[2] += (om * kn * la) * (-ddp * w1.wd * w1.gb0);
-      g[3] += (om * kn * la) * ((hd * dd) * rn - ddp * (w1.wd * w1.gb1 + w2.wd * w2.gb0));
-      g[4] += (om * kn * la) * (-ddp * w2.wd * w2.gb1);
+      const double dd = def * def;
+      const double al = om * hd * dd, bt = om * 2.0 * def * hh * inv2e;
+      a0s += al;
+      a1s += al * xi;
+      a2s += al * xi * xi;
+      es += om * hh * dd;
+      bs += bt;
+      bx += bt * xi;
+    }
+    A0 += a0s;
+    A1 += a1s;
+    A2 += a2s;
+    E0 += es;
+    // the ramp moments (beta is the same for both segments: om ddp / 2e where a ramp acts)
+    if (reg1 == 1 || reg1 == 2) {
+      const double sg = reg1 == 1 ? 1.0 : -1.0;
+      S1 += sg * bs;
+      S1x += sg * bx;
+      (reg1 == 1 ? B1a : B1b) += bs;
+    }
+    if (reg2 == 1 || reg2 == 2) {
+      const double sg = reg2 == 1 ? 1.0 : -1.0;
+      S2 += sg * bs;
+      S2x += sg * bx;
+      (reg2 == 1 ? B2a : B2b) += bs;
     }
   }
+  const double K = kn * la, energy = K * E0;
+  Vec3 g[5];
+  const Vec3 lpart = (kn * E0) * ea;
+  const Vec3 r1m = (1.0 / l1) * (S1 * R10 + S1x * R11);    // sum sigma1 beta1 r1 / l1
+  const Vec3 r2m = (1.0 / l2) * (S2 * R20 + S2x * R21);    // sum sigma2 beta2 r2 / l2
+  g[0] = K * (-((A0 - A1) * w0 + (A1 - A2) * da) - (S1 - S1x) * e1 - (S2 - S2x) * e2) - lpart;
+  g[1] = K * (-(A1 * w0 + A2 * da) - S1x * e1 - S2x * e2) + lpart;
+  g[2] = K * (B1a * e1 + r1m);
+  g[3] = K * (A0 * w0 + A1 * da - B1b * e1 - r1m + B2a * e2 + r2m);
+  g[4] = K * (-B2b * e2 - r2m);
   if (!(energy > 0.0)) return out;
   out.active = true;
   out.energy = energy;
