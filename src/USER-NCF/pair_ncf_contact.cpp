@@ -816,6 +816,7 @@ void PairNCFContact::build_lists()
   bin_grid(gseg);
   bin_grid(gext);
   bin_grid(gcap);
+  gcand.resize(MAX(MAX(gseg.cx.size(), gext.cx.size()), gcap.cx.size()));
 
   // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
   // lists come out in that order, so that the positions, forces and history rows of a step are
@@ -836,7 +837,9 @@ void PairNCFContact::build_lists()
       }
       const double ra = 0.5 * std::sqrt(l2) + ea + hm;
 
-      // segment pairs: boxes, then bounding spheres, overlap
+      // segment pairs: boxes, then bounding spheres, overlap. The boxes are tested without
+      // branches (most entries of the scanned rows fail, unpredictably), the entries that pass
+      // collected in gcand
       for (const BoxGrid *gp : {&gseg, &gext}) {
         const BoxGrid &g = *gp;
         for (int d = 0; d < 3; d++) {
@@ -848,21 +851,28 @@ void PairNCFContact::build_lists()
         const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data();
         const double *hx = g.hx.data(), *hy = g.hy.data(), *hz = g.hz.data(), *gr = g.r.data();
         const tagint *k0 = g.t0.data(), *k1 = g.t1.data();
+        int *cand = gcand.data();
+        int nc = 0;
         for (int cz = c0[2]; cz <= c1[2]; cz++)
           for (int cy = c0[1]; cy <= c1[1]; cy++) {
             const int row = (cz * g.nb[1] + cy) * g.nb[0];
             const int nend = g.start[row + c1[0] + 1];
             for (int n = g.start[row + c0[0]]; n < nend; n++) {
-              if (k0[n] < ta || (k0[n] == ta && k1[n] <= tpa)) continue;
-              const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
-              if (std::fabs(ex) > ha[0] + hx[n] || std::fabs(ey) > ha[1] + hy[n] ||
-                  std::fabs(ez) > ha[2] + hz[n])
-                continue;
-              const double lim = ra + gr[n];
-              if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-              add_pair(ao, ia, g.i0[n], g.i1[n]);
+              const bool later = (k0[n] > ta) | ((k0[n] == ta) & (k1[n] > tpa));
+              const bool near = (std::fabs(ca[0] - gx[n]) <= ha[0] + hx[n]) &
+                  (std::fabs(ca[1] - gy[n]) <= ha[1] + hy[n]) &
+                  (std::fabs(ca[2] - gz[n]) <= ha[2] + hz[n]);
+              cand[nc] = n;
+              nc += later & near;
             }
           }
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
+          const double lim = ra + gr[n];
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          add_pair(ao, ia, g.i0[n], g.i1[n]);
+        }
       }
 
       // node caps: interior nodes of other chains (or far along this one) near segment A
@@ -875,35 +885,47 @@ void PairNCFContact::build_lists()
         int c0[3], c1[3];
         g.cells(rlo, rhi, c0, c1);
         const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data();
+        int *cand = gcand.data();
+        int nc = 0;
+        // the node within D + skin of A's bounding box first (most candidates are not)
         for (int cz = c0[2]; cz <= c1[2]; cz++)
           for (int cy = c0[1]; cy <= c1[1]; cy++) {
             const int row = (cz * g.nb[1] + cy) * g.nb[0];
             const int nend = g.start[row + c1[0] + 1];
             for (int n = g.start[row + c0[0]]; n < nend; n++) {
-              // the node within D + skin of A's bounding box first (most candidates are not;
-              // margin for the round-off of the box)
-              const double ex = std::fabs(ca[0] - gx[n]), ey = std::fabs(ca[1] - gy[n]),
-                           ez = std::fabs(ca[2] - gz[n]);
-              if (ex > exa[0] + hcap || ey > exa[1] + hcap || ez > exa[2] + hcap) continue;
-              const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
-              if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa)
-                continue;
-              const int k = g.i0[n];
-              const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
-              const double dbox = dcap * (1.0 + 1e-9);
-              if (ex > exa[0] + dbox || ey > exa[1] + dbox || ez > exa[2] + dbox) continue;
-              const NCF::ClosestPoints cp =
-                  NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
-              if (cp.dist2 >= dcap * dcap) continue;
-              const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
-              if (kp < 0 || kq < 0)
-                error->one(FLERR,
-                           "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) "
-                           "is not present on this rank; communication cutoff too short",
-                           tag[k], tag[ao], tag[ia]);
-              clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
+              cand[nc] = n;
+              nc += (std::fabs(ca[0] - gx[n]) <= exa[0] + hcap) &
+                  (std::fabs(ca[1] - gy[n]) <= exa[1] + hcap) &
+                  (std::fabs(ca[2] - gz[n]) <= exa[2] + hcap);
             }
           }
+        const double *a0 = x[ao], *a1 = x[ia];
+        const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+        const double uu = ux * ux + uy * uy + uz * uz;
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
+          if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
+          const int k = g.i0[n];
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          // distance of the node from A, with a margin for round-off, before the exact test
+          const double wx = x[k][0] - a0[0], wy = x[k][1] - a0[1], wz = x[k][2] - a0[2];
+          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
+          const double dpre = dcap * (1.0 + 1e-9) + slack;
+          if (px * px + py * py + pz * pz >= dpre * dpre) continue;
+          const NCF::ClosestPoints cp =
+              NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
+          if (cp.dist2 >= dcap * dcap) continue;
+          const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+          if (kp < 0 || kq < 0)
+            error->one(FLERR,
+                       "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                       "present on this rank; communication cutoff too short",
+                       tag[k], tag[ao], tag[ia]);
+          clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
+        }
       }
     }
   pact.assign(plist.size(), 0);

@@ -127,7 +127,7 @@ class PairNCFContact : public Pair {
     void cells(const double *lo_pos, const double *hi_pos, int *c0, int *c1) const;
   };
   BoxGrid gseg, gext, gcap, gtmp;    // segments, segments extended at free ends, node caps
-  std::vector<int> gbin, gfill;
+  std::vector<int> gbin, gfill, gcand;
   void bin_grid(BoxGrid &);
 
   void allocate();
