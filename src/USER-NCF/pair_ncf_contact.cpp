@@ -638,6 +638,8 @@ void PairNCFContact::bin_grid(BoxGrid &g)
       g.inv[d] = 1.0;
     }
     g.start.assign(2, 0);
+    g.fb.clear();
+    g.fslack = 0.0f;
     return;
   }
   double bs[3];
@@ -686,6 +688,26 @@ void PairNCFContact::bin_grid(BoxGrid &g)
   put(g.t2, gtmp.t2);
   put(g.i0, gtmp.i0);
   put(g.i1, gtmp.i1);
+
+  // single precision copies for the box test: centres relative to lo. The round-off of a test
+  // that holds exactly (a few roundings, relative 2^-24 each, of values below the span of the
+  // grid plus the half extents of the two boxes) stays far below the slack of 1e-6 (span +
+  // 2 hmax) plus 1e-6 times the half extents of the searching box added to its bound
+  double big = 0.0;
+  for (int d = 0; d < 3; d++) big = MAX(big, (hi[d] - g.lo[d]) + 2.0 * g.hmax[d]);
+  g.fslack = (float) (1e-6 * big);
+  g.fb.resize(n);
+  for (int k = 0; k < n; k++) {
+    BoxGrid::Filter &f = g.fb[k];
+    f.c[0] = (float) (g.cx[k] - g.lo[0]);
+    f.c[1] = (float) (g.cy[k] - g.lo[1]);
+    f.c[2] = (float) (g.cz[k] - g.lo[2]);
+    f.h[0] = (float) g.hx[k];
+    f.h[1] = (float) g.hy[k];
+    f.h[2] = (float) g.hz[k];
+    f.k0 = g.t0[k];
+    f.k1 = g.t1[k];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -848,9 +870,14 @@ void PairNCFContact::build_lists()
         }
         int c0[3], c1[3];
         g.cells(rlo, rhi, c0, c1);
-        const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data();
-        const double *hx = g.hx.data(), *hy = g.hy.data(), *hz = g.hz.data(), *gr = g.r.data();
-        const tagint *k0 = g.t0.data(), *k1 = g.t1.data();
+        const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data(), *gr = g.r.data();
+        const BoxGrid::Filter *fb = g.fb.data();
+        float fa[3], fh[3];
+        const float fs = g.fslack + (float) (1e-6 * (ha[0] + ha[1] + ha[2]));
+        for (int d = 0; d < 3; d++) {
+          fa[d] = (float) (ca[d] - g.lo[d]);
+          fh[d] = (float) ha[d] + fs;
+        }
         int *cand = gcand.data();
         int nc = 0;
         for (int cz = c0[2]; cz <= c1[2]; cz++)
@@ -858,10 +885,11 @@ void PairNCFContact::build_lists()
             const int row = (cz * g.nb[1] + cy) * g.nb[0];
             const int nend = g.start[row + c1[0] + 1];
             for (int n = g.start[row + c0[0]]; n < nend; n++) {
-              const bool later = (k0[n] > ta) | ((k0[n] == ta) & (k1[n] > tpa));
-              const bool near = (std::fabs(ca[0] - gx[n]) <= ha[0] + hx[n]) &
-                  (std::fabs(ca[1] - gy[n]) <= ha[1] + hy[n]) &
-                  (std::fabs(ca[2] - gz[n]) <= ha[2] + hz[n]);
+              const BoxGrid::Filter &b = fb[n];
+              const bool later = (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));
+              const bool near = (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
               cand[nc] = n;
               nc += later & near;
             }
@@ -884,7 +912,13 @@ void PairNCFContact::build_lists()
         }
         int c0[3], c1[3];
         g.cells(rlo, rhi, c0, c1);
-        const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data();
+        const BoxGrid::Filter *fb = g.fb.data();
+        float fa[3], fh[3];
+        const float fs = g.fslack + (float) (1e-6 * (exa[0] + exa[1] + exa[2]));
+        for (int d = 0; d < 3; d++) {
+          fa[d] = (float) (ca[d] - g.lo[d]);
+          fh[d] = (float) exa[d] + fs;
+        }
         int *cand = gcand.data();
         int nc = 0;
         // the node within D + skin of A's bounding box first (most candidates are not)
@@ -893,10 +927,11 @@ void PairNCFContact::build_lists()
             const int row = (cz * g.nb[1] + cy) * g.nb[0];
             const int nend = g.start[row + c1[0] + 1];
             for (int n = g.start[row + c0[0]]; n < nend; n++) {
+              const BoxGrid::Filter &b = fb[n];
               cand[nc] = n;
-              nc += (std::fabs(ca[0] - gx[n]) <= exa[0] + hcap) &
-                  (std::fabs(ca[1] - gy[n]) <= exa[1] + hcap) &
-                  (std::fabs(ca[2] - gz[n]) <= exa[2] + hcap);
+              nc += (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
             }
           }
         const double *a0 = x[ao], *a1 = x[ia];

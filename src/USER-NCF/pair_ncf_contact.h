@@ -121,6 +121,14 @@ class PairNCFContact : public Pair {
     std::vector<double> r;              // radius of the bounding sphere (inflated)
     std::vector<tagint> t0, t1, t2;     // segment key (owner, partner); node and its neighbours
     std::vector<int> i0, i1;            // segment owner and partner (-2 missing); node
+    // what the box test of the inner loop reads, one record per entry (half a cache line):
+    // centre relative to lo and half extents in single precision, and the segment key
+    struct Filter {
+      float c[3], h[3];
+      tagint k0, k1;
+    };
+    std::vector<Filter> fb;
+    float fslack;    // bound of the round-off of the single precision box test
     void clear();
     void add(const double *c, const double *h, double rad, tagint a, tagint b, tagint q, int j0,
              int j1);
