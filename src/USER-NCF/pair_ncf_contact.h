@@ -112,15 +112,15 @@ class PairNCFContact : public Pair {
   // between builds (no allocation once they have grown). Entries sorted by bin, one array per
   // quantity so that the inner loop of the build reads only what its tests need
   struct BoxGrid {
-    int nb[3];                          // bins per direction
-    double lo[3], inv[3];               // lowest centre, 1 / bin size
-    double hmax[3];                     // largest half extent of the entries
-    std::vector<int> start;             // per bin: first entry (nbins + 1 values)
-    std::vector<double> cx, cy, cz;     // centre of the box
-    std::vector<double> hx, hy, hz;     // half extents (inflated, see build_lists)
-    std::vector<double> r;              // radius of the bounding sphere (inflated)
-    std::vector<tagint> t0, t1, t2;     // segment key (owner, partner); node and its neighbours
-    std::vector<int> i0, i1;            // segment owner and partner (-2 missing); node
+    int nb[3];                         // bins per direction
+    double lo[3], inv[3];              // lowest centre, 1 / bin size
+    double hmax[3];                    // largest half extent of the entries
+    std::vector<int> start;            // per bin: first entry (nbins + 1 values)
+    std::vector<double> cx, cy, cz;    // centre of the box
+    std::vector<double> hx, hy, hz;    // half extents (inflated, see build_lists)
+    std::vector<double> r;             // radius of the bounding sphere (inflated)
+    std::vector<tagint> t0, t1, t2;    // segment key (owner, partner); node and its neighbours
+    std::vector<int> i0, i1;           // segment owner and partner (-2 missing); node
     // what the box test of the inner loop reads, one record per entry (half a cache line):
     // centre relative to lo and half extents in single precision, and the segment key
     struct Filter {
