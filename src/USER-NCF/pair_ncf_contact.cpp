@@ -562,15 +562,175 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
 }
 
 /* ----------------------------------------------------------------------
+   boxes binned by their centres (build_lists)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::BoxGrid::clear()
+{
+  cx.clear();
+  cy.clear();
+  cz.clear();
+  hx.clear();
+  hy.clear();
+  hz.clear();
+  r.clear();
+  t0.clear();
+  t1.clear();
+  t2.clear();
+  i0.clear();
+  i1.clear();
+}
+
+void PairNCFContact::BoxGrid::add(const double *c, const double *h, double rad, tagint a, tagint b,
+                                  tagint q, int j0, int j1)
+{
+  cx.push_back(c[0]);
+  cy.push_back(c[1]);
+  cz.push_back(c[2]);
+  hx.push_back(h[0]);
+  hy.push_back(h[1]);
+  hz.push_back(h[2]);
+  r.push_back(rad);
+  t0.push_back(a);
+  t1.push_back(b);
+  t2.push_back(q);
+  i0.push_back(j0);
+  i1.push_back(j1);
+}
+
+// bins c0..c1 (per direction) that hold every centre in the box lo_pos..hi_pos: the bin index is
+// monotonic in the position (clamped to the grid; no conversion of an out-of-range value to int)
+void PairNCFContact::BoxGrid::cells(const double *lo_pos, const double *hi_pos, int *c0,
+                                    int *c1) const
+{
+  for (int d = 0; d < 3; d++) {
+    const double top = nb[d] - 1;
+    double a = (lo_pos[d] - lo[d]) * inv[d], b = (hi_pos[d] - lo[d]) * inv[d];
+    a = a < 0.0 ? 0.0 : (a > top ? top : a);
+    b = b < 0.0 ? 0.0 : (b > top ? top : b);
+    c0[d] = (int) a;
+    c1[d] = (int) b;
+  }
+}
+
+// sort the entries of a grid by bin (counting sort through gtmp) and fill its bin index. Bins of
+// about the largest half extent per direction: a search reaches over (own + largest) half extent
+// on either side, a few bins, and the rows it scans are not much longer than the search box
+void PairNCFContact::bin_grid(BoxGrid &g)
+{
+  const int n = (int) g.cx.size();
+  const std::vector<double> *cen[3] = {&g.cx, &g.cy, &g.cz};
+  const std::vector<double> *hal[3] = {&g.hx, &g.hy, &g.hz};
+  double hi[3];
+  for (int d = 0; d < 3; d++) {
+    g.lo[d] = 1e300;
+    hi[d] = -1e300;
+    g.hmax[d] = 0.0;
+    for (int k = 0; k < n; k++) {
+      g.lo[d] = MIN(g.lo[d], (*cen[d])[k]);
+      hi[d] = MAX(hi[d], (*cen[d])[k]);
+      g.hmax[d] = MAX(g.hmax[d], (*hal[d])[k]);
+    }
+  }
+  if (n == 0) {
+    for (int d = 0; d < 3; d++) {
+      g.nb[d] = 1;
+      g.lo[d] = 0.0;
+      g.inv[d] = 1.0;
+    }
+    g.start.assign(2, 0);
+    g.fb.clear();
+    g.fslack = 0.0f;
+    return;
+  }
+  double bs[3];
+  for (int d = 0; d < 3; d++) {
+    bs[d] = MAX(g.hmax[d], 1e-6 * (hi[d] - g.lo[d]));
+    if (!(bs[d] > 0.0)) bs[d] = 1.0;
+  }
+  for (;;) {
+    double total = 1.0;
+    for (int d = 0; d < 3; d++) {
+      g.nb[d] = (int) MIN((hi[d] - g.lo[d]) / bs[d], 1e8) + 1;
+      total *= g.nb[d];
+    }
+    if (total <= 4.0 * n + 1000.0) break;
+    for (int d = 0; d < 3; d++) bs[d] *= 1.5;
+  }
+  for (int d = 0; d < 3; d++) g.inv[d] = 1.0 / bs[d];
+  const int nbins = g.nb[0] * g.nb[1] * g.nb[2];
+  g.start.assign(nbins + 1, 0);
+  gbin.resize(n);
+  for (int k = 0; k < n; k++) {
+    const double c[3] = {g.cx[k], g.cy[k], g.cz[k]};
+    int c0[3], c1[3];
+    g.cells(c, c, c0, c1);
+    gbin[k] = (c0[2] * g.nb[1] + c0[1]) * g.nb[0] + c0[0];
+    g.start[gbin[k] + 1]++;
+  }
+  for (int b = 0; b < nbins; b++) g.start[b + 1] += g.start[b];
+  gfill.assign(g.start.begin(), g.start.end() - 1);
+  // positions of the entries in bin order
+  for (int k = 0; k < n; k++) gbin[k] = gfill[gbin[k]]++;
+  auto put = [&](auto &src, auto &dst) {
+    dst.resize(n);
+    for (int k = 0; k < n; k++) dst[gbin[k]] = src[k];
+    src.swap(dst);
+  };
+  put(g.cx, gtmp.cx);
+  put(g.cy, gtmp.cy);
+  put(g.cz, gtmp.cz);
+  put(g.hx, gtmp.hx);
+  put(g.hy, gtmp.hy);
+  put(g.hz, gtmp.hz);
+  put(g.r, gtmp.r);
+  put(g.t0, gtmp.t0);
+  put(g.t1, gtmp.t1);
+  put(g.t2, gtmp.t2);
+  put(g.i0, gtmp.i0);
+  put(g.i1, gtmp.i1);
+
+  // single precision copies for the box test: centres relative to lo. The round-off of a test
+  // that holds exactly (a few roundings, relative 2^-24 each, of values below the span of the
+  // grid plus the half extents of the two boxes) stays far below the slack of 1e-6 (span +
+  // 2 hmax) plus 1e-6 times the half extents of the searching box added to its bound
+  double big = 0.0;
+  for (int d = 0; d < 3; d++) big = MAX(big, (hi[d] - g.lo[d]) + 2.0 * g.hmax[d]);
+  g.fslack = (float) (1e-6 * big);
+  g.fb.resize(n);
+  for (int k = 0; k < n; k++) {
+    BoxGrid::Filter &f = g.fb[k];
+    f.c[0] = (float) (g.cx[k] - g.lo[0]);
+    f.c[1] = (float) (g.cy[k] - g.lo[1]);
+    f.c[2] = (float) (g.cz[k] - g.lo[2]);
+    f.h[0] = (float) g.hx[k];
+    f.h[1] = (float) g.hy[k];
+    f.h[2] = (float) g.hz[k];
+    f.k0 = g.t0[k];
+    f.k1 = g.t1[k];
+  }
+}
+
+/* ----------------------------------------------------------------------
    candidate lists, rebuilt only when LAMMPS reneighbours (ghosts and atom indices change only
    then). Between two builds no node moves more than skin/2 (the distance check of LAMMPS, which
    also accounts for a changing box), so the distance of two segments (or of a segment and a
    node) changes by less than the skin: a pair farther apart than its reach plus the skin at the
    build cannot come into contact before the next build.
-   Candidates come from a cell list of segment midpoints (local and ghost segments, periodic
-   images included); a segment pair is kept when the distance of the two segments is below
-   D (1 + ramp) + skin (the law is zero unless A comes within D of B extended by the ramps), a
-   node cap when the distance of the segment from the node is below D + skin.
+   A segment pair is kept when the distance of the two segments is below D (1 + ramp) + skin plus
+   the extensions at free chain ends of both (the law is zero unless A comes within D of B
+   extended by the ramps), a node cap when the distance of the segment from the node is below
+   D + skin. Candidates come from grids of boxes binned by their centres (local and ghost
+   segments and nodes, periodic images included):
+   - a segment's box is its bounding box, inflated on every side by its own extension at free
+     ends and by half the largest reach + skin: two segments within reach + skin + extensions
+     have boxes that overlap (|centre difference| <= sum of half extents per direction: the two
+     closest points lie in the bounding boxes). Likewise for the bounding spheres;
+   - segments extended at free ends (few) have a grid of their own, so that their larger boxes
+     do not widen the search of all the others;
+   - the caps: a grid of the interior nodes, boxes of half width D + skin around the node.
+   All bounds carry a small slack for round-off, so the candidates are a superset of the pairs
+   and caps the exact tests below keep.
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::build_lists()
@@ -581,20 +741,22 @@ void PairNCFContact::build_lists()
   const int *type = atom->type;
   const tagint *tag = atom->tag;
   const double skin = neighbor->skin;
+  double **cnb = atom->darray[idx_cnb];
 
   set_segments();
   // extension of the segments at free chain ends (nodes with one bond), per local/ghost node
-  {
-    double **cnb = atom->darray[idx_cnb];
-    endext.assign(nall, 0.0);
-    for (int k = 0; k < nall; k++)
-      if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];
-  }
+  endext.assign(nall, 0.0);
+  for (int k = 0; k < nall; k++)
+    if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];
   plist.clear();
   clist.clear();
   xbuild.resize(3 * (size_t) nall);
+  double xabs = 0.0;
   for (int k = 0; k < nall; k++)
-    for (int d = 0; d < 3; d++) xbuild[3 * (size_t) k + d] = x[k][d];
+    for (int d = 0; d < 3; d++) {
+      xbuild[3 * (size_t) k + d] = x[k][d];
+      xabs = MAX(xabs, std::fabs(x[k][d]));
+    }
 
   // every owned segment has its partner here
   for (int i = 0; i < nlocal; i++)
@@ -603,11 +765,22 @@ void PairNCFContact::build_lists()
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
 
-  // segment pair (slot sa of owned node ao, slot sb of node bo), key(A) < key(B) checked by the
-  // caller: kept if the two segments are within reach + skin
-  auto add_pair = [&](int ao, int sa, int bo, int sb) {
-    const int ia = segp[2 * ao + sa];
-    const int jb = segp[2 * bo + sb];
+  // largest reach + skin of a segment pair (without the extensions at free ends) and largest
+  // distance of a node cap
+  double reachmax = 0.0, dmax = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    dmax = MAX(dmax, diameter[i]);
+    for (int j = 1; j <= atom->ntypes; j++) reachmax = MAX(reachmax, reachf[i][j]);
+  }
+  const double margin = reachmax + skin;
+  // slack for the round-off of the bounds (relative to the reach, and to the coordinates that
+  // the distances are computed from)
+  const double slack = 1e-9 * margin + 1e-12 * xabs;
+  const double hm = 0.5 * margin + slack;
+
+  // segment pair (A = ao-ia with ao owned, B = bo-jb), key(A) < key(B) checked by the caller:
+  // kept if the two segments are within reach + skin
+  auto add_pair = [&](int ao, int ia, int bo, int jb) {
     const double lim = reachf[type[ao]][type[bo]] + skin;
     if (jb == -2) {
       // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the
@@ -633,191 +806,151 @@ void PairNCFContact::build_lists()
     plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum});
   };
 
-  // one entry per segment (owner node, slot) and, folded into the first segment entry of its
-  // node, the node cap of every interior node (nodes owning no segment get an entry of their own)
-  struct Seg {
-    double m[3];
-    double half;
-    tagint tag, ptag;    // key of the segment (owner tag, partner tag)
-    int owner, slot;     // slot -1: no segment, only the node cap
-    int cap;             // 1: the owner is an interior node whose cap this entry carries
-    tagint tp, tq;       // chain neighbours of the owner (for the cap exclusions)
-  };
-  double **cnb = atom->darray[idx_cnb];
-  std::vector<Seg> all;
-  all.reserve(nall);
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  // the boxes: every segment (owner node, partner) known here, and every interior node
+  gseg.clear();
+  gext.clear();
+  gcap.clear();
+  const double hcap = (dmax + skin) * (1.0 + 1e-9) + slack;
+  const double hcapv[3] = {hcap, hcap, hcap};
   for (int k = 0; k < nall; k++) {
-    const bool interior = cnb[k][0] != 0.0 && cnb[k][1] != 0.0;
-    bool capdone = false;
     for (int sl = 0; sl < 2; sl++) {
       const int p = segp[2 * k + sl];
       if (p == -1) continue;
-      Seg sg;
       if (p >= 0) {
-        const double dx = x[p][0] - x[k][0], dy = x[p][1] - x[k][1], dz = x[p][2] - x[k][2];
-        sg = {{x[k][0] + 0.5 * dx, x[k][1] + 0.5 * dy, x[k][2] + 0.5 * dz},
-              0.5 * std::sqrt(dx * dx + dy * dy + dz * dz),
-              tag[k],
-              tag[p],
-              k,
-              sl,
-              0,
-              0,
-              0};
-      } else {    // partner missing: only its node is known (an error if that node is in reach)
-        sg = {{x[k][0], x[k][1], x[k][2]}, 0.0, tag[k], (tagint) cnb[k][sl], k, sl, 0, 0, 0};
+        double c[3], h[3], l2 = 0.0;
+        const double e = endext[k] + endext[p];
+        for (int d = 0; d < 3; d++) {
+          const double dx = x[p][d] - x[k][d];
+          c[d] = x[k][d] + 0.5 * dx;
+          h[d] = 0.5 * std::fabs(dx) + e + hm;
+          l2 += dx * dx;
+        }
+        (e > 0.0 ? gext : gseg).add(c, h, 0.5 * std::sqrt(l2) + e + hm, tag[k], tag[p], 0, k, p);
+      } else {
+        // partner missing: only its node is known (an error if that node is within reach + skin
+        // of an owned segment, which needs no extension)
+        const double h[3] = {hm, hm, hm};
+        gseg.add(x[k], h, hm, tag[k], (tagint) cnb[k][sl], 0, k, -2);
       }
-      if (interior && !capdone) {
-        sg.cap = 1;
-        sg.tp = (tagint) cnb[k][0];
-        sg.tq = (tagint) cnb[k][1];
-        capdone = true;
-      }
-      all.push_back(sg);
     }
-    if (interior && !capdone)
-      all.push_back({{x[k][0], x[k][1], x[k][2]},
-                     0.0,
-                     tag[k],
-                     0,
-                     k,
-                     -1,
-                     1,
-                     (tagint) cnb[k][0],
-                     (tagint) cnb[k][1]});
+    if (cnb[k][0] != 0.0 && cnb[k][1] != 0.0)
+      gcap.add(x[k], hcapv, hcap, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k, -1);
   }
-  if (all.empty()) {
-    pact.assign(plist.size(), 0);
-    if (use_history) load_history();
-    return;
-  }
-  // half extents of the bounding box of every entry (the segment, or its node alone)
-  std::vector<std::array<double, 3>> ext(all.size());
-  double extmax[3] = {0.0, 0.0, 0.0};
-  for (size_t n = 0; n < all.size(); n++) {
-    const Seg &sg = all[n];
-    const int p = sg.slot >= 0 ? segp[2 * sg.owner + sg.slot] : -1;
-    for (int d = 0; d < 3; d++) {
-      ext[n][d] = p >= 0 ? 0.5 * std::fabs(x[p][d] - x[sg.owner][d]) : 0.0;
-      extmax[d] = MAX(extmax[d], ext[n][d]);
-      lo[d] = MIN(lo[d], sg.m[d]);
-      hi[d] = MAX(hi[d], sg.m[d]);
-    }
-  }
-  // two entries can only come within reach + skin if their box centres are within
-  // ext_A + ext_B + reach + skin in every direction: bins per direction of half that reach (in a
-  // layered mat the boxes are flat, so the search in z is short)
-  const double margin = reach_max + skin;
-  double reachd[3], bs[3];
-  for (int d = 0; d < 3; d++) {
-    reachd[d] = 2.0 * extmax[d] + margin;
-    bs[d] = 0.5 * reachd[d];
-  }
-  int nb[3];
-  for (;;) {
-    double total = 1.0;
-    for (int d = 0; d < 3; d++) {
-      nb[d] = (int) ((hi[d] - lo[d]) / bs[d]) + 1;
-      total *= nb[d];
-    }
-    if (total <= 8.0 * all.size() + 1000.0) break;
-    for (int d = 0; d < 3; d++) bs[d] *= 1.5;
-  }
-  auto cellof = [&](const double *m, int *c) {
-    for (int d = 0; d < 3; d++) c[d] = MAX(0, MIN(nb[d] - 1, (int) ((m[d] - lo[d]) / bs[d])));
-  };
-  const int nbins = nb[0] * nb[1] * nb[2];
-  std::vector<int> start(nbins + 1, 0);
-  std::vector<int> bin(all.size());
-  for (size_t n = 0; n < all.size(); n++) {
-    int c[3];
-    cellof(all[n].m, c);
-    bin[n] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
-    start[bin[n] + 1]++;
-  }
-  for (int k = 0; k < nbins; k++) start[k + 1] += start[k];
-  std::vector<Seg> sorted(all.size());
-  // compact copies for the inner loop: bounding box (centre, half extents) and bounding sphere
-  // (centre, half length) of each entry
-  std::vector<std::array<double, 6>> box(all.size());
-  std::vector<double> halfl(all.size());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (size_t n = 0; n < all.size(); n++) {
-      const int m = fill[bin[n]]++;
-      sorted[m] = all[n];
-      for (int d = 0; d < 3; d++) {
-        box[m][d] = all[n].m[d];
-        box[m][3 + d] = ext[n][d];
-      }
-      halfl[m] = all[n].half;
-    }
-  }
+  bin_grid(gseg);
+  bin_grid(gext);
+  bin_grid(gcap);
+  gcand.resize(MAX(MAX(gseg.cx.size(), gext.cx.size()), gcap.cx.size()));
+
   // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
   // lists come out in that order, so that the positions, forces and history rows of a step are
-  // visited nearly in memory order
-  std::vector<int> owned_entries;
-  owned_entries.reserve(2 * (size_t) nlocal);
-  {
-    std::vector<int> where(2 * (size_t) nlocal, -1);
-    for (size_t n = 0; n < sorted.size(); n++)
-      if (sorted[n].owner < nlocal && sorted[n].slot >= 0)
-        where[2 * sorted[n].owner + sorted[n].slot] = (int) n;
-    for (int w : where)
-      if (w >= 0) owned_entries.push_back(w);
-  }
-  for (const int na : owned_entries) {
-    const Seg &sa = sorted[na];
-    const int ao = sa.owner;
-    const tagint ta = sa.tag, tpa = sa.ptag;
-    const std::array<double, 6> &ba = box[na];
-    const double ha = halfl[na];
-    // the bins that can hold a centre within ext_A + (largest ext_B) + reach + skin of A's
-    // centre (the cell index is monotonic in the position): in a layered mat a segment along x
-    // searches a narrower band in y than one along y, and vice versa
-    double rlo[3], rhi[3];
-    for (int d = 0; d < 3; d++) {
-      const double range = ba[3 + d] + extmax[d] + margin;
-      rlo[d] = ba[d] - range;
-      rhi[d] = ba[d] + range;
-    }
-    int c0[3], c1[3];
-    cellof(rlo, c0);
-    cellof(rhi, c1);
-    const int z0 = c0[2], z1 = c1[2], y0 = c0[1], y1 = c1[1], x0 = c0[0], x1 = c1[0];
-    for (int cz = z0; cz <= z1; cz++)
-      for (int cy = y0; cy <= y1; cy++) {
-        const int row = (cz * nb[1] + cy) * nb[0];
-        for (int n = start[row + x0]; n < start[row + x1 + 1]; n++) {
-          // supersets of both tests below (the owner node is an end of the segment): bounding
-          // boxes, then bounding spheres, within reach + skin
-          const std::array<double, 6> &bb = box[n];
-          if (std::fabs(ba[0] - bb[0]) > ba[3] + bb[3] + margin ||
-              std::fabs(ba[1] - bb[1]) > ba[4] + bb[4] + margin ||
-              std::fabs(ba[2] - bb[2]) > ba[5] + bb[5] + margin)
-            continue;
-          const double ex = ba[0] - bb[0], ey = ba[1] - bb[1], ez = ba[2] - bb[2];
-          const double lim = ha + halfl[n] + margin;
+  // visited nearly in memory order (store_history relies on it)
+  for (int ao = 0; ao < nlocal; ao++)
+    for (int sa = 0; sa < 2; sa++) {
+      const int ia = segp[2 * ao + sa];
+      if (ia < 0) continue;
+      const tagint ta = tag[ao], tpa = tag[ia];
+      const double ea = endext[ao] + endext[ia];
+      double ca[3], exa[3], ha[3], rlo[3], rhi[3], l2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double dx = x[ia][d] - x[ao][d];
+        ca[d] = x[ao][d] + 0.5 * dx;
+        exa[d] = 0.5 * std::fabs(dx);
+        ha[d] = exa[d] + ea + hm;
+        l2 += dx * dx;
+      }
+      const double ra = 0.5 * std::sqrt(l2) + ea + hm;
+
+      // segment pairs: boxes, then bounding spheres, overlap. The boxes are tested without
+      // branches (most entries of the scanned rows fail, unpredictably), the entries that pass
+      // collected in gcand
+      for (const BoxGrid *gp : {&gseg, &gext}) {
+        const BoxGrid &g = *gp;
+        for (int d = 0; d < 3; d++) {
+          rlo[d] = ca[d] - (ha[d] + g.hmax[d]);
+          rhi[d] = ca[d] + (ha[d] + g.hmax[d]);
+        }
+        int c0[3], c1[3];
+        g.cells(rlo, rhi, c0, c1);
+        const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data(), *gr = g.r.data();
+        const BoxGrid::Filter *fb = g.fb.data();
+        float fa[3], fh[3];
+        const float fs = g.fslack + (float) (1e-6 * (ha[0] + ha[1] + ha[2]));
+        for (int d = 0; d < 3; d++) {
+          fa[d] = (float) (ca[d] - g.lo[d]);
+          fh[d] = (float) ha[d] + fs;
+        }
+        int *cand = gcand.data();
+        int nc = 0;
+        for (int cz = c0[2]; cz <= c1[2]; cz++)
+          for (int cy = c0[1]; cy <= c1[1]; cy++) {
+            const int row = (cz * g.nb[1] + cy) * g.nb[0];
+            const int nend = g.start[row + c1[0] + 1];
+            for (int n = g.start[row + c0[0]]; n < nend; n++) {
+              const BoxGrid::Filter &b = fb[n];
+              const bool later = (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));
+              const bool near = (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
+              cand[nc] = n;
+              nc += later & near;
+            }
+          }
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
+          const double lim = ra + gr[n];
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-          const Seg &sb = sorted[n];
-          if (sb.slot >= 0 && (sb.tag > ta || (sb.tag == ta && sb.ptag > tpa)))
-            add_pair(ao, sa.slot, sb.owner, sb.slot);
-          if (!sb.cap) continue;
-          // node cap of the owner of entry sb: interior nodes of other chains (or far along this
-          // one) near segment A
-          if (sb.tag == ta || sb.tag == tpa || sb.tp == ta || sb.tp == tpa || sb.tq == ta ||
-              sb.tq == tpa)
-            continue;
-          const int k = sb.owner, ia = segp[2 * ao + sa.slot];
+          add_pair(ao, ia, g.i0[n], g.i1[n]);
+        }
+      }
+
+      // node caps: interior nodes of other chains (or far along this one) near segment A
+      {
+        const BoxGrid &g = gcap;
+        for (int d = 0; d < 3; d++) {
+          rlo[d] = ca[d] - (exa[d] + g.hmax[d]);
+          rhi[d] = ca[d] + (exa[d] + g.hmax[d]);
+        }
+        int c0[3], c1[3];
+        g.cells(rlo, rhi, c0, c1);
+        const BoxGrid::Filter *fb = g.fb.data();
+        float fa[3], fh[3];
+        const float fs = g.fslack + (float) (1e-6 * (exa[0] + exa[1] + exa[2]));
+        for (int d = 0; d < 3; d++) {
+          fa[d] = (float) (ca[d] - g.lo[d]);
+          fh[d] = (float) exa[d] + fs;
+        }
+        int *cand = gcand.data();
+        int nc = 0;
+        // the node within D + skin of A's bounding box first (most candidates are not)
+        for (int cz = c0[2]; cz <= c1[2]; cz++)
+          for (int cy = c0[1]; cy <= c1[1]; cy++) {
+            const int row = (cz * g.nb[1] + cy) * g.nb[0];
+            const int nend = g.start[row + c1[0] + 1];
+            for (int n = g.start[row + c0[0]]; n < nend; n++) {
+              const BoxGrid::Filter &b = fb[n];
+              cand[nc] = n;
+              nc += (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
+            }
+          }
+        const double *a0 = x[ao], *a1 = x[ia];
+        const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
+        const double uu = ux * ux + uy * uy + uz * uz;
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
+          if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
+          const int k = g.i0[n];
           const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
-          // the node within dcap of A's bounding box first (most candidates are not; margin for
-          // the round-off of the box)
-          const double dbox = dcap * (1.0 + 1e-9);
-          if (std::fabs(x[k][0] - ba[0]) > ba[3] + dbox ||
-              std::fabs(x[k][1] - ba[1]) > ba[4] + dbox ||
-              std::fabs(x[k][2] - ba[2]) > ba[5] + dbox)
-            continue;
+          // distance of the node from A, with a margin for round-off, before the exact test
+          const double wx = x[k][0] - a0[0], wy = x[k][1] - a0[1], wz = x[k][2] - a0[2];
+          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
+          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
+          const double dpre = dcap * (1.0 + 1e-9) + slack;
+          if (px * px + py * py + pz * pz >= dpre * dpre) continue;
           const NCF::ClosestPoints cp =
               NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
           if (cp.dist2 >= dcap * dcap) continue;
@@ -830,7 +963,7 @@ void PairNCFContact::build_lists()
           clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
         }
       }
-  }
+    }
   pact.assign(plist.size(), 0);
   if (use_history) load_history();
 }

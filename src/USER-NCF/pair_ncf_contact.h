@@ -109,6 +109,36 @@ class PairNCFContact : public Pair {
   bigint lists_ncalls;
   int lists_nlocal, lists_nall;
 
+  // boxes (segments or nodes) binned by their centres, for the list build; the arrays are kept
+  // between builds (no allocation once they have grown). Entries sorted by bin, one array per
+  // quantity so that the inner loop of the build reads only what its tests need
+  struct BoxGrid {
+    int nb[3];                         // bins per direction
+    double lo[3], inv[3];              // lowest centre, 1 / bin size
+    double hmax[3];                    // largest half extent of the entries
+    std::vector<int> start;            // per bin: first entry (nbins + 1 values)
+    std::vector<double> cx, cy, cz;    // centre of the box
+    std::vector<double> hx, hy, hz;    // half extents (inflated, see build_lists)
+    std::vector<double> r;             // radius of the bounding sphere (inflated)
+    std::vector<tagint> t0, t1, t2;    // segment key (owner, partner); node and its neighbours
+    std::vector<int> i0, i1;           // segment owner and partner (-2 missing); node
+    // what the box test of the inner loop reads, one record per entry (half a cache line):
+    // centre relative to lo and half extents in single precision, and the segment key
+    struct Filter {
+      float c[3], h[3];
+      tagint k0, k1;
+    };
+    std::vector<Filter> fb;
+    float fslack;    // bound of the round-off of the single precision box test
+    void clear();
+    void add(const double *c, const double *h, double rad, tagint a, tagint b, tagint q, int j0,
+             int j1);
+    void cells(const double *lo_pos, const double *hi_pos, int *c0, int *c1) const;
+  };
+  BoxGrid gseg, gext, gcap, gtmp;    // segments, segments extended at free ends, node caps
+  std::vector<int> gbin, gfill, gcand;
+  void bin_grid(BoxGrid &);
+
   void allocate();
   void build_lists();
   void load_history();
