@@ -1244,16 +1244,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     return false;
   };
   const int npairs = (int) plist.size();
-  // the node records of B (random places in memory) are requested a few entries ahead
-  constexpr int AHEAD = 8;
   for (int e = 0; e < npairs; e++) {
-    if (e + AHEAD < npairs) {
-      const PairCand &pf = plist[e + AHEAD];
-      __builtin_prefetch(xof(pf.b0));
-      __builtin_prefetch(xof(pf.b1));
-      __builtin_prefetch(f[pf.b0]);
-      __builtin_prefetch(f[pf.b1]);
-    }
     if (plist[e].d - dglob >= reach_law) {
       pact[e] = 0;
       if (use_history) phas[e] = 0;
