@@ -613,6 +613,43 @@ void PairNCFContact::BoxGrid::cells(const double *lo_pos, const double *hi_pos, 
   }
 }
 
+// the entries of the grid whose (inflated) box overlaps the box of centre c and half extents h,
+// with keep(filter record) true, into cand (returns their number). The tests run without branches
+// (most entries of the scanned rows fail, unpredictably), in single precision with the slack of
+// the grid plus 1e-6 of the half extents
+template <class Keep>
+int PairNCFContact::BoxGrid::scan(const double *c, const double *h, Keep keep, int *cand) const
+{
+  double rlo[3], rhi[3];
+  for (int d = 0; d < 3; d++) {
+    rlo[d] = c[d] - (h[d] + hmax[d]);
+    rhi[d] = c[d] + (h[d] + hmax[d]);
+  }
+  int c0[3], c1[3];
+  cells(rlo, rhi, c0, c1);
+  float fa[3], fh[3];
+  const float fs = fslack + (float) (1e-6 * (h[0] + h[1] + h[2]));
+  for (int d = 0; d < 3; d++) {
+    fa[d] = (float) (c[d] - lo[d]);
+    fh[d] = (float) h[d] + fs;
+  }
+  const Filter *f = fb.data();
+  int nc = 0;
+  for (int cz = c0[2]; cz <= c1[2]; cz++)
+    for (int cy = c0[1]; cy <= c1[1]; cy++) {
+      const int row = (cz * nb[1] + cy) * nb[0];
+      const int nend = start[row + c1[0] + 1];
+      for (int n = start[row + c0[0]]; n < nend; n++) {
+        const Filter &b = f[n];
+        cand[nc] = n;
+        nc += keep(b) & (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+            (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+            (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
+      }
+    }
+  return nc;
+}
+
 // sort the entries of a grid by bin (counting sort through gtmp) and fill its bin index. Bins of
 // about the largest half extent per direction: a search reaches over (own + largest) half extent
 // on either side, a few bins, and the rows it scans are not much longer than the search box
@@ -850,7 +887,7 @@ void PairNCFContact::build_lists()
       if (ia < 0) continue;
       const tagint ta = tag[ao], tpa = tag[ia];
       const double ea = endext[ao] + endext[ia];
-      double ca[3], exa[3], ha[3], rlo[3], rhi[3], l2 = 0.0;
+      double ca[3], exa[3], ha[3], l2 = 0.0;
       for (int d = 0; d < 3; d++) {
         const double dx = x[ia][d] - x[ao][d];
         ca[d] = x[ao][d] + 0.5 * dx;
@@ -865,36 +902,15 @@ void PairNCFContact::build_lists()
       // collected in gcand
       for (const BoxGrid *gp : {&gseg, &gext}) {
         const BoxGrid &g = *gp;
-        for (int d = 0; d < 3; d++) {
-          rlo[d] = ca[d] - (ha[d] + g.hmax[d]);
-          rhi[d] = ca[d] + (ha[d] + g.hmax[d]);
-        }
-        int c0[3], c1[3];
-        g.cells(rlo, rhi, c0, c1);
         const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data(), *gr = g.r.data();
-        const BoxGrid::Filter *fb = g.fb.data();
-        float fa[3], fh[3];
-        const float fs = g.fslack + (float) (1e-6 * (ha[0] + ha[1] + ha[2]));
-        for (int d = 0; d < 3; d++) {
-          fa[d] = (float) (ca[d] - g.lo[d]);
-          fh[d] = (float) ha[d] + fs;
-        }
         int *cand = gcand.data();
-        int nc = 0;
-        for (int cz = c0[2]; cz <= c1[2]; cz++)
-          for (int cy = c0[1]; cy <= c1[1]; cy++) {
-            const int row = (cz * g.nb[1] + cy) * g.nb[0];
-            const int nend = g.start[row + c1[0] + 1];
-            for (int n = g.start[row + c0[0]]; n < nend; n++) {
-              const BoxGrid::Filter &b = fb[n];
-              const bool later = (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));
-              const bool near = (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
-                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
-                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
-              cand[nc] = n;
-              nc += later & near;
-            }
-          }
+        // B after A in the key order
+        const int nc = g.scan(
+            ca, ha,
+            [ta, tpa](const BoxGrid::Filter &b) {
+              return (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));
+            },
+            cand);
         for (int c = 0; c < nc; c++) {
           const int n = cand[c];
           const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
@@ -907,34 +923,14 @@ void PairNCFContact::build_lists()
       // node caps: interior nodes of other chains (or far along this one) near segment A
       {
         const BoxGrid &g = gcap;
-        for (int d = 0; d < 3; d++) {
-          rlo[d] = ca[d] - (exa[d] + g.hmax[d]);
-          rhi[d] = ca[d] + (exa[d] + g.hmax[d]);
-        }
-        int c0[3], c1[3];
-        g.cells(rlo, rhi, c0, c1);
-        const BoxGrid::Filter *fb = g.fb.data();
-        float fa[3], fh[3];
-        const float fs = g.fslack + (float) (1e-6 * (exa[0] + exa[1] + exa[2]));
-        for (int d = 0; d < 3; d++) {
-          fa[d] = (float) (ca[d] - g.lo[d]);
-          fh[d] = (float) exa[d] + fs;
-        }
         int *cand = gcand.data();
-        int nc = 0;
         // the node within D + skin of A's bounding box first (most candidates are not)
-        for (int cz = c0[2]; cz <= c1[2]; cz++)
-          for (int cy = c0[1]; cy <= c1[1]; cy++) {
-            const int row = (cz * g.nb[1] + cy) * g.nb[0];
-            const int nend = g.start[row + c1[0] + 1];
-            for (int n = g.start[row + c0[0]]; n < nend; n++) {
-              const BoxGrid::Filter &b = fb[n];
-              cand[nc] = n;
-              nc += (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
-                  (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
-                  (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
-            }
-          }
+        const int nc = g.scan(
+            ca, exa,
+            [](const BoxGrid::Filter &) {
+              return true;
+            },
+            cand);
         const double *a0 = x[ao], *a1 = x[ia];
         const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
         const double uu = ux * ux + uy * uy + uz * uz;

@@ -134,6 +134,7 @@ class PairNCFContact : public Pair {
     void add(const double *c, const double *h, double rad, tagint a, tagint b, tagint q, int j0,
              int j1);
     void cells(const double *lo_pos, const double *hi_pos, int *c0, int *c1) const;
+    template <class Keep> int scan(const double *c, const double *h, Keep keep, int *cand) const;
   };
   BoxGrid gseg, gext, gcap, gtmp;    // segments, segments extended at free ends, node caps
   std::vector<int> gbin, gfill, gcand;
