@@ -57,19 +57,20 @@ namespace {
         inv2c(0.5 / (CORE_FRACTION * dc)), invc(1.0 / (CORE_FRACTION * dc)), kap(core)
     {
     }
-    // false where r2 >= D^2 (no contact)
-    bool at(double r2, double &hh, double &hd) const
+    // whether the point at squared distance r2 lies in the core (a piece of the integral lies
+    // either inside or outside it: its break points include the core's boundary)
+    bool in_core(double r2) const { return kap > 0.0 && r2 < c2; }
+    // hh and hd at r2 (zero where r2 >= D^2; the core's term where incore)
+    void at(double r2, bool incore, double &hh, double &hd) const
     {
-      const double h = (d2 - r2) * inv2d;
-      if (!(h > 0.0)) return false;
+      const double h = std::max(0.0, (d2 - r2) * inv2d);
       hh = 0.5 * h * h;
       hd = h * invd;
-      if (kap > 0.0 && r2 < c2) {
-        const double hc = (c2 - r2) * inv2c;
+      if (incore) {
+        const double hc = std::max(0.0, (c2 - r2) * inv2c);
         hh += 0.5 * kap * hc * hc;
         hd += kap * hc * invc;
       }
-      return true;
     }
     // the core's boundary (r2 = D_c^2) along a line with r2(xi) = qa xi^2 + qb xi + qc: its
     // crossings inside (lo, hi) appended to the break points
@@ -82,6 +83,25 @@ namespace {
       if (chi > lo && chi < hi) brk[nb++] = chi;
     }
   };
+
+  // The weight W = clamp(min(wa, wb), 0, 1) of a segment of length l at arc position s
+  // (wa = 1/2 + s / 2e, wb = 1/2 + (l - s) / 2e) is one of four polynomials: its regime is
+  // 0 zero, 1 the ramp at the first node (W = wa), 2 the ramp at the second (W = wb), 3 plateau
+  inline int weight_regime(double s, double l, double inv2e)
+  {
+    const double wa = 0.5 + s * inv2e, wb = 0.5 + (l - s) * inv2e;
+    const double w = std::min(wa, wb);
+    return w >= 1.0 ? 3 : (w <= 0.0 ? 0 : (wa <= wb ? 1 : 2));
+  }
+  inline double weight_in(int reg, double s, double l, double inv2e)
+  {
+    return reg == 3 ? 1.0 : (reg == 0 ? 0.0 : (reg == 1 ? 0.5 + s * inv2e : 0.5 + (l - s) * inv2e));
+  }
+  inline double weight_value(double s, double l, double e)
+  {
+    const double inv2e = 0.5 / e;
+    return weight_in(weight_regime(s, l, inv2e), s, l, inv2e);
+  }
 
   // Break points of the piecewise polynomial integrands come as short lists that are each
   // already in order, so they are merged instead of sorted (a sort of random values mispredicts
@@ -193,28 +213,18 @@ namespace {
       if (!(half > 0.0)) continue;
       const double mid = 0.5 * (brk[k + 1] + brk[k]);
       // W and the core are each one polynomial on the piece: their branch is taken at its middle
-      // wr: 0 plateau (W = 1), 1 ramp at B0 (W = wa), 2 ramp at B1 (W = wb)
-      const double smid = s0 + s1 * mid;
-      const double wamid = 0.5 + smid * inv2e, wbmid = 0.5 + (lb - smid) * inv2e;
-      const double wmid = std::min(wamid, wbmid);
-      if (!(wmid > 0.0)) continue;
-      const int wr = wmid >= 1.0 ? 0 : (wamid <= wbmid ? 1 : 2);
-      const bool incore = prof.kap > 0.0 && (qa * mid + qb) * mid + qc < prof.c2;
+      const int wr = weight_regime(s0 + s1 * mid, lb, inv2e);
+      if (wr == 0) continue;
+      const bool incore = prof.in_core((qa * mid + qb) * mid + qc);
       double wsum = 0.0, psum = 0.0, qsum = 0.0, qxsum = 0.0, csum = 0.0, cxsum = 0.0, cxxsum = 0.0;
       for (int q = 0; q < 3; q++) {
         const double xi = mid + half * gx[q];
         const double om = half * gw[q];
         const double r2 = (qa * xi + qb) * xi + qc;
         // energy density hh = h^2/2 (+ kappa h_c^2/2) and hd = -2 d(hh)/d(r2)
-        const double h = std::max(0.0, (d2 - r2) * prof.inv2d);
-        double hh = 0.5 * h * h, hd = h * prof.invd;
-        if (incore) {
-          const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
-          hh += 0.5 * prof.kap * hc * hc;
-          hd += prof.kap * hc * prof.invc;
-        }
-        const double s = s0 + s1 * xi;
-        const double w = wr == 0 ? 1.0 : (wr == 1 ? 0.5 + s * inv2e : 0.5 + (lb - s) * inv2e);
+        double hh, hd;
+        prof.at(r2, incore, hh, hd);
+        const double w = weight_in(wr, s0 + s1 * xi, lb, inv2e);
         const double omw = om * w;
         wsum += omw;
         psum += omw * hh;
@@ -347,24 +357,6 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
 
 namespace {
   constexpr double DEFICIT_TOL = 1e-9;
-  // The weight W = clamp(min(wa, wb), 0, 1) of a segment of length l at arc position s
-  // (wa = 1/2 + s / 2e, wb = 1/2 + (l - s) / 2e) is one of four polynomials: its regime is
-  // 0 zero, 1 the ramp at the first node (W = wa), 2 the ramp at the second (W = wb), 3 plateau
-  inline int weight_regime(double s, double l, double inv2e)
-  {
-    const double wa = 0.5 + s * inv2e, wb = 0.5 + (l - s) * inv2e;
-    const double w = std::min(wa, wb);
-    return w >= 1.0 ? 3 : (w <= 0.0 ? 0 : (wa <= wb ? 1 : 2));
-  }
-  inline double weight_in(int reg, double s, double l, double inv2e)
-  {
-    return reg == 3 ? 1.0 : (reg == 0 ? 0.0 : (reg == 1 ? 0.5 + s * inv2e : 0.5 + (l - s) * inv2e));
-  }
-  inline double weight_value(double s, double l, double e)
-  {
-    const double inv2e = 0.5 / e;
-    return weight_in(weight_regime(s, l, inv2e), s, l, inv2e);
-  }
 }    // namespace
 
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
@@ -467,37 +459,26 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   double A0 = 0.0, A1 = 0.0, A2 = 0.0, E0 = 0.0;       // sum alpha (1, xi, xi^2); sum eps
   double S1 = 0.0, S1x = 0.0, B1a = 0.0, B1b = 0.0;    // sum sigma1 beta1 (1, xi); beta1 per ramp
   double S2 = 0.0, S2x = 0.0, B2a = 0.0, B2b = 0.0;    // the same for segment 2
-  auto regime = [inv2e](double s, double l) {
-    return weight_regime(s, l, inv2e);
-  };
-  auto weight = [inv2e](int reg, double s, double l) {
-    return weight_in(reg, s, l, inv2e);
-  };
   for (int k = 0; k + 1 < np; k++) {
     const double half = 0.5 * (pts[k + 1] - pts[k]);
     if (!(half > 0.0)) continue;
     const double mid = 0.5 * (pts[k + 1] + pts[k]);
-    const int reg1 = regime(s10 + s11 * mid, l1), reg2 = regime(s20 + s21 * mid, l2);
-    const double defmid = 1.0 - weight(reg1, s10 + s11 * mid, l1) -
-        weight(reg2, s20 + s21 * mid, l2) - DEFICIT_TOL;    // round-off of straight chains
+    const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
+    const int reg1 = weight_regime(s1m, l1, inv2e), reg2 = weight_regime(s2m, l2, inv2e);
+    const double defmid = 1.0 - weight_in(reg1, s1m, l1, inv2e) - weight_in(reg2, s2m, l2, inv2e) -
+        DEFICIT_TOL;    // round-off of straight chains
     if (!(defmid > 0.0)) continue;
-    const bool incore = prof.kap > 0.0 && norm2(w0 + mid * da) < prof.c2;
+    const bool incore = prof.in_core(norm2(w0 + mid * da));
     double a0s = 0.0, a1s = 0.0, a2s = 0.0, es = 0.0, bs = 0.0, bx = 0.0;
     for (int qd = 0; qd < 4; qd++) {
       const double xi = mid + half * gx[qd];
       const double om = half * gw[qd];
       const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-      const double def =
-          std::max(0.0, 1.0 - weight(reg1, s1, l1) - weight(reg2, s2, l2) - DEFICIT_TOL);
-      const double r2 = norm2(w0 + xi * da);
+      const double def = std::max(
+          0.0, 1.0 - weight_in(reg1, s1, l1, inv2e) - weight_in(reg2, s2, l2, inv2e) - DEFICIT_TOL);
       // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-      const double h = std::max(0.0, (d2 - r2) * prof.inv2d);
-      double hh = 0.5 * h * h, hd = h * prof.invd;
-      if (incore) {
-        const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
-        hh += 0.5 * prof.kap * hc * hc;
-        hd += prof.kap * hc * prof.invc;
-      }
+      double hh, hd;
+      prof.at(norm2(w0 + xi * da), incore, hh, hd);
       // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
       // through straight (the deficit grows like the kink angle)
       const double dd = def * def;
