@@ -85,7 +85,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   kn = ktr = mu = damp = cut = reachf = nullptr;
   given = nullptr;
   lmax_used = 0.0;
-  reach_max = 0.0;
+  reach_max = diam_max = 0.0;
   use_history = use_velocity = false;
   idx_cnb = idx_hist = idx_fc = -1;
   ncol = 1 + 6 * maxcontacts;
@@ -427,9 +427,9 @@ void PairNCFContact::init_style()
   // segment A: A reaches lmax beyond the sub-domain, B another lmax beyond A's reach + skin
   // (2 lmax + reach + skin, which is also LAMMPS's own cutforce + skin); for the friction history
   // also the owners of the segments next to B along its chain (+ lmax)
-  double dmax = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) dmax = MAX(dmax, diameter[i]);
-  const double need = dmax * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
+  diam_max = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++) diam_max = MAX(diam_max, diameter[i]);
+  const double need = diam_max * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
       (use_history ? 3.0 : 2.0) * lmax_used;
   if (comm->cutghostuser < need) {
     if (comm->me == 0)
@@ -458,9 +458,7 @@ double PairNCFContact::init_one(int i, int j)
   const double dc = 0.5 * (diameter[i] + diameter[j]);
   cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac + 4.0 * endcap_frac) + 2.0 * lmax_used;
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
-  // the bins must find pairs of extended free-end segments as well
-  // (a segment of two free ends is extended at both: up to 2 endcap (d_i + d_j) in all)
-  reach_max = MAX(reach_max, reachf[i][j] + 2.0 * endcap_frac * (diameter[i] + diameter[j]));
+  reach_max = MAX(reach_max, reachf[i][j]);
   return cut[i][j];
 }
 
@@ -802,14 +800,8 @@ void PairNCFContact::build_lists()
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
 
-  // largest reach + skin of a segment pair (without the extensions at free ends) and largest
-  // distance of a node cap
-  double reachmax = 0.0, dmax = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) {
-    dmax = MAX(dmax, diameter[i]);
-    for (int j = 1; j <= atom->ntypes; j++) reachmax = MAX(reachmax, reachf[i][j]);
-  }
-  const double margin = reachmax + skin;
+  // largest reach + skin of a segment pair (without the extensions at free ends)
+  const double margin = reach_max + skin;
   // slack for the round-off of the bounds (relative to the reach, and to the coordinates that
   // the distances are computed from)
   const double slack = 1e-9 * margin + 1e-12 * xabs;
@@ -847,7 +839,7 @@ void PairNCFContact::build_lists()
   gseg.clear();
   gext.clear();
   gcap.clear();
-  const double hcap = (dmax + skin) * (1.0 + 1e-9) + slack;
+  const double hcap = (diam_max + skin) * (1.0 + 1e-9) + slack;
   const double hcapv[3] = {hcap, hcap, hcap};
   for (int k = 0; k < nall; k++) {
     for (int sl = 0; sl < 2; sl++) {
@@ -1113,13 +1105,6 @@ void PairNCFContact::compute(int eflag, int vflag)
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
   // node data are loaded
   const double dglob = 2.0 * (std::sqrt(dmove2) * (1.0 + 1e-12) + 0.5e-12 * reach_max);
-  // largest contact distance and largest reach of the law (D (1 + ramp), without the end caps:
-  // the distances d of the pair list are net of the extensions)
-  double dcmax = 0.0, reach_law = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) {
-    dcmax = MAX(dcmax, diameter[i]);
-    for (int j = i; j <= atom->ntypes; j++) reach_law = MAX(reach_law, reachf[i][j]);
-  }
   auto xof = [X](int k) {
     return X + NR * (size_t) k;
   };
@@ -1241,7 +1226,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   const int npairs = (int) plist.size();
   for (int e = 0; e < npairs; e++) {
-    if (plist[e].d - dglob >= reach_law) {
+    // (the distances d of the pair list are net of the extensions at free ends)
+    if (plist[e].d - dglob >= reach_max) {
       pact[e] = 0;
       if (use_history) phas[e] = 0;
       continue;
@@ -1262,7 +1248,7 @@ void PairNCFContact::compute(int eflag, int vflag)
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
   for (const CapCand &cc : clist) {
-    if (cc.d - dglob >= dcmax) continue;
+    if (cc.d - dglob >= diam_max) continue;
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const int itype = type[ao], ktype = type[k];
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);

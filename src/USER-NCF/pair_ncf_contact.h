@@ -69,7 +69,8 @@ class PairNCFContact : public Pair {
 
   // derived at init
   double lmax_used;
-  double reach_max;     // largest D (1 + ramp) over the type pairs
+  double reach_max;     // largest D (1 + ramp) over the type pairs (without end caps)
+  double diam_max;      // largest diameter (of a type)
   bool use_history;     // any mu > 0: history stored and communicated
   bool use_velocity;    // friction or damping: ghost velocities needed
   int idx_cnb, idx_hist, idx_fc;
