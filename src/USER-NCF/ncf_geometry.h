@@ -92,6 +92,16 @@ inline double clamp01(double v)
   return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
 }
 
+// squared distance of the point q from the segment p0-p1 (closest_points_segments with a point
+// for the second segment, without its general cases)
+inline double point_segment_dist2(const Vec3 &p0, const Vec3 &p1, const Vec3 &q)
+{
+  const Vec3 d = p1 - p0, w = q - p0;
+  const double a = norm2(d);
+  const double s = a > 0.0 ? clamp01(dot(d, w) / a) : 0.0;
+  return norm2(w - s * d);
+}
+
 inline ClosestPoints closest_points_segments(const Vec3 &p0, const Vec3 &p1, const Vec3 &q0,
                                              const Vec3 &q1)
 {

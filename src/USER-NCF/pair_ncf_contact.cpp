@@ -923,32 +923,22 @@ void PairNCFContact::build_lists()
               return true;
             },
             cand);
-        const double *a0 = x[ao], *a1 = x[ia];
-        const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
-        const double uu = ux * ux + uy * uy + uz * uz;
+        const Vec3 a0(x[ao]), a1(x[ia]);
         for (int c = 0; c < nc; c++) {
           const int n = cand[c];
           const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
           if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
           const int k = g.i0[n];
           const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
-          // distance of the node from A, with a margin for round-off, before the exact test
-          const double wx = x[k][0] - a0[0], wy = x[k][1] - a0[1], wz = x[k][2] - a0[2];
-          double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
-          t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-          const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
-          const double dpre = dcap * (1.0 + 1e-9) + slack;
-          if (px * px + py * py + pz * pz >= dpre * dpre) continue;
-          const NCF::ClosestPoints cp =
-              NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[k]), Vec3(x[k]));
-          if (cp.dist2 >= dcap * dcap) continue;
+          const double dist2 = NCF::point_segment_dist2(a0, a1, Vec3(x[k]));
+          if (dist2 >= dcap * dcap) continue;
           const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
           if (kp < 0 || kq < 0)
             error->one(FLERR,
                        "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
                        "present on this rank; communication cutoff too short",
                        tag[k], tag[ao], tag[ia]);
-          clist.push_back({ao, ia, kp, k, kq, std::sqrt(cp.dist2)});
+          clist.push_back({ao, ia, kp, k, kq, std::sqrt(dist2)});
         }
       }
     }
@@ -1254,15 +1244,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
     if (cc.d - (MAX(dm(ao), dm(ia)) + dm(k)) >= dc) continue;
     // the cap acts only where A comes within D of the node
-    const double *xn = xof(k);
-    const double *a0 = xof(ao), *a1 = xof(ia);
-    const double ux = a1[0] - a0[0], uy = a1[1] - a0[1], uz = a1[2] - a0[2];
-    const double wx = xn[0] - a0[0], wy = xn[1] - a0[1], wz = xn[2] - a0[2];
-    const double uu = ux * ux + uy * uy + uz * uz;
-    double t = uu > 0.0 ? (ux * wx + uy * wy + uz * wz) / uu : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    const double px = wx - t * ux, py = wy - t * uy, pz = wz - t * uz;
-    if (px * px + py * py + pz * pz >= dc * dc) continue;
+    if (NCF::point_segment_dist2(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(k))) >= dc * dc) continue;
     const NCF::NodeContact c =
         NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
                           dc, kn[itype][ktype], ramp_frac * dc, core);

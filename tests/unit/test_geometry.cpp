@@ -96,3 +96,23 @@ TEST(Geometry, ClosestPointsContinuousTowardsParallel)
     prev = d;
   }
 }
+
+// the point-segment distance is the general closest-point search with a point for the second
+// segment, and no farther than either end or the foot of the perpendicular when it lies inside
+TEST(Geometry, PointSegmentDistanceMatchesClosestPoints)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 2000; k++) {
+    const Vec3 p0(u(rng), u(rng), u(rng)), p1(u(rng), u(rng), u(rng)), q(u(rng), u(rng), u(rng));
+    const double d2 = NCF::point_segment_dist2(p0, p1, q);
+    EXPECT_NEAR(d2, NCF::closest_points_segments(p0, p1, q, q).dist2, 1e-14);
+    EXPECT_LE(d2, NCF::norm2(q - p0) + 1e-15);
+    EXPECT_LE(d2, NCF::norm2(q - p1) + 1e-15);
+  }
+  // the foot inside: distance from the line
+  EXPECT_NEAR(NCF::point_segment_dist2(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(1, 3, 4)), 25.0, 1e-12);
+  // beyond an end, and a degenerate segment
+  EXPECT_NEAR(NCF::point_segment_dist2(Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(5, 4, 0)), 25.0, 1e-12);
+  EXPECT_NEAR(NCF::point_segment_dist2(Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 4)), 9.0, 1e-12);
+}
