@@ -20,7 +20,7 @@ python3 "$here/make_mat.py" mat.data --side 6e-3 --layers 16 --vf 0.45 | tee mak
 nodes=$(awk '/ atoms$/{print $1; exit}' mat.data)
 # untimed: the geometric mat settles between the plates into a compacted mat at rest (~45 s)
 relax=${NCF_BENCH_RELAX:-2000}
-lmp -in "$here/in.relax" -var data mat.data -var relax "$relax" -var out mat.restart -log relax.log -screen none
+lmp -in "$here/in.relax" -var bench "$here" -var data mat.data -var relax "$relax" -var out mat.restart -log relax.log -screen none
 awk '/^ *Step/{f=1;next} f&&$1~/^[0-9]+$/{l=$0} /^Loop time/{f=0} END{split(l,c); printf "relaxed %d steps: %s contacting segment pairs, rms node speed %.2f m/s\n", c[1], c[4], c[6]}' relax.log
 # sphere packing with about the same number of particles
 side=$(python3 -c "import math; print(round(math.sqrt($nodes/30)))")
@@ -30,9 +30,9 @@ loop() { awk '/^Loop time of/{t=$4} END{print t}' "$1"; }
 pairt() { awk '/^Pair  *\|/{t=$3} END{print t}' "$1"; }
 contacts() { awk -v col="$2" 'f&&NF>=col&&$1~/^[0-9]+$/{c=$col} /^ *Step/{f=1} END{print c}' "$1"; }
 
-lmp -in "$here/in.ncf" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf1.log -screen none
-"${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf2.log -screen none
-lmp -in "$here/in.ncf" -var restart mat.restart -var mu 0.0 -var steps "$steps" -log ncf1mu0.log -screen none
+lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf1.log -screen none
+"${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf2.log -screen none
+lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.0 -var steps "$steps" -log ncf1mu0.log -screen none
 lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$steps" -log gran1.log -screen none
 grains=$(awk '/^Loop time of/{n=$NF=="atoms"?$(NF-1):n} END{print n}' gran1.log)
 
