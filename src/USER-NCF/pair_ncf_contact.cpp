@@ -83,6 +83,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   dtcheck = 2;
   dt_critical = 0.0;
   kn = ktr = mu = damp = cut = reachf = nullptr;
+  tstride = 0;
   given = nullptr;
   lmax_used = 0.0;
   reach_max = diam_max = 0.0;
@@ -375,6 +376,7 @@ void PairNCFContact::init_style()
                "pair ncf/contact requires a molecular atom style with bonds (atom_style bond)");
   if (force->newton_pair == 0) error->all(FLERR, "pair ncf/contact requires newton pair on");
   if (atom->map_style == Atom::MAP_NONE) error->all(FLERR, "pair ncf/contact requires an atom map");
+  tstride = atom->ntypes + 1;
   for (int i = 1; i <= atom->ntypes; i++)
     if (!diamset[i])
       error->all(FLERR,
@@ -459,6 +461,10 @@ double PairNCFContact::init_one(int i, int j)
   cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac + 4.0 * endcap_frac) + 2.0 * lmax_used;
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
   reach_max = MAX(reach_max, reachf[i][j]);
+  tpar.resize((size_t) tstride * tstride);
+  const TypePair tpij{reachf[i][j], dc,        kn[i][j], ramp_frac * dc, ktr[i][j] * kn[i][j],
+                      mu[i][j],     damp[i][j]};
+  tpar[type_pair(i, j)] = tpar[type_pair(j, i)] = tpij;
   return cut[i][j];
 }
 
@@ -832,7 +838,8 @@ void PairNCFContact::build_lists()
     const NCF::ClosestPoints cp =
         NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
     if (cp.dist2 >= (lim + extsum) * (lim + extsum)) return;
-    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum});
+    plist.push_back(
+        {ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum, type_pair(type[ao], type[bo])});
   };
 
   // the boxes: every segment (owner node, partner) known here, and every interior node
@@ -938,7 +945,7 @@ void PairNCFContact::build_lists()
                        "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
                        "present on this rank; communication cutoff too short",
                        tag[k], tag[ao], tag[ia]);
-          clist.push_back({ao, ia, kp, k, kq, std::sqrt(dist2)});
+          clist.push_back({ao, ia, kp, k, kq, type_pair(type[ao], type[k]), std::sqrt(dist2)});
         }
       }
     }
@@ -1033,7 +1040,6 @@ void PairNCFContact::compute(int eflag, int vflag)
   const Row *x = atom->x ? (const Row *) atom->x[0] : nullptr;
   const Row *v = atom->v ? (const Row *) atom->v[0] : nullptr;
   Row *f = atom->f ? (Row *) atom->f[0] : nullptr;
-  const int *type = atom->type;
   const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
@@ -1131,10 +1137,10 @@ void PairNCFContact::compute(int eflag, int vflag)
       had = phas[e] != 0;
       phas[e] = 0;
     }
-    const int itype = type[ao], jtype = type[bo];
+    const TypePair &tp = tpar[pc.tp];
     const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
-    if (pc.d - dmv >= reachf[itype][jtype]) return false;
-    const double dc = 0.5 * (diameter[itype] + diameter[jtype]);
+    if (pc.d - dmv >= tp.reach) return false;
+    const double dc = tp.dc;
     const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
     NCF::ContactOptions opt;
     opt.core = core;
@@ -1147,10 +1153,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
     if (!was_active && pc.d + dmv >= dc &&
-        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, ramp_frac * dc, opt.ext))
+        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, tp.ramp, opt.ext))
       return false;
-    const NCF::SegmentContact c = NCF::segment_contact(xa0, xa1, xb0, xb1, dc, kn[itype][jtype],
-                                                       ramp_frac * dc, eflag_global != 0, opt);
+    const NCF::SegmentContact c =
+        NCF::segment_contact(xa0, xa1, xb0, xb1, dc, tp.kn, tp.ramp, eflag_global != 0, opt);
     if (!c.active) return false;
     pact[e] = 1;
 
@@ -1162,14 +1168,14 @@ void PairNCFContact::compute(int eflag, int vflag)
           ((1.0 - t) * Vec3(xof(bo) + 4) + t * Vec3(xof(jb) + 4));
       Vec3 ftot;
       double fn = c.fn;
-      if (damp[itype][jtype] > 0.0) {
+      if (tp.damp > 0.0) {
         // normal dashpot per unit contact length, never pulling the chains together
-        double fd = -damp[itype][jtype] * c.length * NCF::dot(vrel, c.normal);
+        double fd = -tp.damp * c.length * NCF::dot(vrel, c.normal);
         if (fd < -fn) fd = -fn;
         fn += fd;
         ftot += fd * c.normal;
       }
-      const double m = mu[itype][jtype];
+      const double m = tp.mu;
       if (m > 0.0) {
         double *slip = &phist[6 * (size_t) e + 3];
         if (!had) {
@@ -1181,7 +1187,7 @@ void PairNCFContact::compute(int eflag, int vflag)
           }
         }
         Vec3 s(slip);
-        const double ktc = ktr[itype][jtype] * kn[itype][jtype] * c.length;
+        const double ktc = tp.kt * c.length;
         const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
         ftot += fr.force;
         espring = fr.energy;
@@ -1240,14 +1246,14 @@ void PairNCFContact::compute(int eflag, int vflag)
   for (const CapCand &cc : clist) {
     if (cc.d - dglob >= diam_max) continue;
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
-    const int itype = type[ao], ktype = type[k];
-    const double dc = 0.5 * (diameter[itype] + diameter[ktype]);
+    const TypePair &tp = tpar[cc.tp];
+    const double dc = tp.dc;
     if (cc.d - (MAX(dm(ao), dm(ia)) + dm(k)) >= dc) continue;
     // the cap acts only where A comes within D of the node
     if (NCF::point_segment_dist2(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(k))) >= dc * dc) continue;
     const NCF::NodeContact c =
         NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
-                          dc, kn[itype][ktype], ramp_frac * dc, core);
+                          dc, tp.kn, tp.ramp, core);
     if (!c.active) continue;
     const int ids[5] = {ao, ia, kp, k, kq};
     for (int m = 0; m < 5; m++) {

@@ -97,12 +97,27 @@ class PairNCFContact : public Pair {
   struct PairCand {
     int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
     double d;              // distance of the two segments at the build
+    int tp;                // type pair (index into tpar)
   };
   struct CapCand {
     int a0, a1;     // segment A (a0 owned)
     int p, n, q;    // interior node n and its chain neighbours
+    int tp;         // type pair of A and the node (index into tpar)
     double d;       // distance of segment A from node n at the build
   };
+  // the coefficients of a type pair as the compute loops use them, in one small table (set at
+  // init), so that a list entry needs neither the types of its nodes nor the 2d arrays
+  struct TypePair {
+    double reach;    // D (1 + ramp)
+    double dc;       // contact distance D
+    double kn;       // normal stiffness per length
+    double ramp;     // ramp half-width e
+    double kt;       // tangential stiffness per length (ktr kn)
+    double mu, damp;
+  };
+  std::vector<TypePair> tpar;    // index itype * tstride + jtype
+  int tstride;                   // ntypes + 1 (set at init)
+  int type_pair(int itype, int jtype) const { return itype * tstride + jtype; }
   std::vector<double> xbuild;    // positions of all local and ghost atoms at the build
   std::vector<PairCand> plist;
   std::vector<CapCand> clist;
