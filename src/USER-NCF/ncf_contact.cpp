@@ -52,9 +52,10 @@ namespace {
   struct Profile {
     double d2, inv2d, invd;         // D^2, 1/(2D), 1/D
     double c2, inv2c, invc, kap;    // the same for D_c; kappa (0: no core)
+    // (one division: D_c = D / sqrt(3))
     Profile(double dc, double core) :
-        d2(dc * dc), inv2d(0.5 / dc), invd(1.0 / dc), c2(CORE_FRACTION * CORE_FRACTION * d2),
-        inv2c(0.5 / (CORE_FRACTION * dc)), invc(1.0 / (CORE_FRACTION * dc)), kap(core)
+        d2(dc * dc), inv2d(0.5 / dc), invd(2.0 * inv2d), c2(CORE_FRACTION * CORE_FRACTION * d2),
+        inv2c(SQRT3 * inv2d), invc(2.0 * inv2c), kap(core)
     {
     }
     // whether the point at squared distance r2 lies in the core (a piece of the integral lies
@@ -153,6 +154,7 @@ namespace {
     const double tiny = 1e-28 * la2;
     double lo, hi;
     if (!negative_interval(qa, qb, qc - d2, tiny, lo, hi)) return out;
+    const double xvert = 0.5 * (lo + hi);    // the point of A's line closest to B's (qa > tiny)
     lo = std::max(lo, 0.0);
     hi = std::min(hi, 1.0);
     if (!(hi > lo)) return out;
@@ -196,57 +198,70 @@ namespace {
     merge_breaks(cbrk, ncb, kbrk, nkb, brk, nb);
     brk[nb++] = hi;
 
-    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
-    static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
     const double inv2e = 0.5 / e;
 
     // The integrand is linear in r(xi) = r0 + xi r1 and in the ramp gradients (constant or linear
     // in r), so the energy, the gradient, the normal resultant and its centroid follow from a few
-    // scalar moments summed over the Gauss points (per point: c = om hd W, p = om hh W,
-    // q = om hh W' split by the active ramp, a at B0 or b at B1):
-    double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // sum c, c xi, c xi^2
-    double P0 = 0.0, L0 = 0.0;                            // sum p; sum om W
-    double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // sum q, q xi per ramp
+    // scalar moments of the pieces (c = hd W, p = hh W, q = hh W' split by the active ramp, a at
+    // B0 or b at B1):
+    double C0 = 0.0, C1 = 0.0, C2 = 0.0;                  // integral of c, c xi, c xi^2
+    double P0 = 0.0, L0 = 0.0;                            // integral of p; of W
+    double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;    // integral of q, q xi per ramp
 
+    // On a piece xi = mid + y, |y| <= hw, every factor is a polynomial in y: W = wm + wy y,
+    // g = D^2 - r^2 = g0 + g1 y + g2 y^2, hd = A0 + A1 y + A2 y^2, hh = B0 + ... + B4 y^4 (with
+    // the core's terms where the piece lies in the core). The moments are exact in closed form
+    // from the even moments of y (the odd ones vanish); centred on the piece, they keep the
+    // accuracy of evaluating g pointwise (no powers of xi that cancel).
+    const double kd = prof.inv2d * prof.invd, bd = 0.5 * prof.inv2d * prof.inv2d;
+    const double kc = prof.kap * prof.inv2c * prof.invc,
+                 bc = 0.5 * prof.kap * prof.inv2c * prof.inv2c;
     for (int k = 0; k + 1 < nb; k++) {
-      const double half = 0.5 * (brk[k + 1] - brk[k]);
-      if (!(half > 0.0)) continue;
+      const double hw = 0.5 * (brk[k + 1] - brk[k]);
+      if (!(hw > 0.0)) continue;
       const double mid = 0.5 * (brk[k + 1] + brk[k]);
       // W and the core are each one polynomial on the piece: their branch is taken at its middle
-      const int wr = weight_regime(s0 + s1 * mid, lb, inv2e);
+      const double sm = s0 + s1 * mid;
+      const int wr = weight_regime(sm, lb, inv2e);
       if (wr == 0) continue;
-      const bool incore = prof.in_core((qa * mid + qb) * mid + qc);
-      double wsum = 0.0, psum = 0.0, qsum = 0.0, qxsum = 0.0, csum = 0.0, cxsum = 0.0, cxxsum = 0.0;
-      for (int q = 0; q < 3; q++) {
-        const double xi = mid + half * gx[q];
-        const double om = half * gw[q];
-        const double r2 = (qa * xi + qb) * xi + qc;
-        // energy density hh = h^2/2 (+ kappa h_c^2/2) and hd = -2 d(hh)/d(r2)
-        double hh, hd;
-        prof.at(r2, incore, hh, hd);
-        const double w = weight_in(wr, s0 + s1 * xi, lb, inv2e);
-        const double omw = om * w;
-        wsum += omw;
-        psum += omw * hh;
-        const double c = omw * hd;
-        csum += c;
-        cxsum += c * xi;
-        cxxsum += c * xi * xi;
-        const double qv = om * hh;
-        qsum += qv;
-        qxsum += qv * xi;
+      const double wm = weight_in(wr, sm, lb, inv2e);
+      const double wy = wr == 1 ? s1 * inv2e : (wr == 2 ? -s1 * inv2e : 0.0);
+      const double r2m = (qa * mid + qb) * mid + qc;
+      const double g0 = prof.d2 - r2m, g1 = -(2.0 * qa * mid + qb), g2 = -qa;
+      double A0 = kd * g0, A1 = kd * g1, A2 = kd * g2;
+      double B0 = bd * g0 * g0, B1 = bd * 2.0 * g0 * g1, B2 = bd * (g1 * g1 + 2.0 * g0 * g2),
+             B3 = bd * 2.0 * g1 * g2, B4 = bd * g2 * g2;
+      if (prof.in_core(r2m)) {
+        const double c0 = prof.c2 - r2m;
+        A0 += kc * c0;
+        A1 += kc * g1;
+        A2 += kc * g2;
+        B0 += bc * c0 * c0;
+        B1 += bc * 2.0 * c0 * g1;
+        B2 += bc * (g1 * g1 + 2.0 * c0 * g2);
+        B3 += bc * 2.0 * g1 * g2;
+        B4 += bc * g2 * g2;
       }
-      L0 += wsum;
-      P0 += psum;
-      C0 += csum;
-      C1 += cxsum;
-      C2 += cxxsum;
+      const double hw2 = hw * hw;
+      const double m0 = 2.0 * hw, m2 = m0 * hw2 * (1.0 / 3.0), m4 = m0 * hw2 * hw2 * 0.2;
+      const double H0 = B0 * m0 + B2 * m2 + B4 * m4;    // integral of hh
+      const double H1 = B1 * m2 + B3 * m4;              // integral of hh y
+      const double I0 = A0 * m0 + A2 * m2, I1 = A1 * m2, I2 = A0 * m2 + A2 * m4;    // hd y^k
+      const double I3 = A1 * m4;
+      const double c0 = wm * I0 + wy * I1;    // integral of W hd, W hd y, W hd y^2
+      const double c1 = wm * I1 + wy * I2;
+      const double c2 = wm * I2 + wy * I3;
+      L0 += wm * m0;
+      P0 += wm * H0 + wy * H1;
+      C0 += c0;
+      C1 += mid * c0 + c1;
+      C2 += mid * (mid * c0 + 2.0 * c1) + c2;
       if (wr == 1) {
-        QA0 += qsum * inv2e;
-        QA1 += qxsum * inv2e;
+        QA0 += H0 * inv2e;
+        QA1 += (mid * H0 + H1) * inv2e;
       } else if (wr == 2) {
-        QB0 += qsum * inv2e;
-        QB1 += qxsum * inv2e;
+        QB0 += H0 * inv2e;
+        QB1 += (mid * H0 + H1) * inv2e;
       }
     }
     const double energy = kn * la * P0, length = la * L0;
@@ -255,14 +270,18 @@ namespace {
     // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
     // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
     // eb - r/lb for the ramp at B1) and through la
+    // dE/dx of A0, A1, B0, B1 (K = kn la): through r (the distance), through the ramp variable
+    // (gradients +-eb at the point of A, -eb - r/lb and r/lb at B0, B1 for the ramp at B0; r/lb and
+    // eb - r/lb for the ramp at B1) and through la
     const Vec3 eb = inv_lb * u;
+    const double inv_la = 1.0 / la;
     const double K = kn * la;
     const Vec3 cr_sum = C0 * r0 + C1 * r1;                         // sum c r
     const Vec3 cxr_sum = C1 * r0 + C2 * r1;                        // sum c xi r
     const Vec3 ctr_sum = inv_lb * (s0 * cr_sum + s1 * cxr_sum);    // sum c t r, t = s / lb
     const Vec3 qa_rl = inv_lb * (QA0 * r0 + QA1 * r1);             // sum q r / lb, ramp at B0
     const Vec3 qb_rl = inv_lb * (QB0 * r0 + QB1 * r1);             // the same, ramp at B1
-    const Vec3 lpart = (kn * P0 / la) * da;
+    const Vec3 lpart = (kn * P0 * inv_la) * da;
     Vec3 g[4];
     g[0] = K * (((QA0 - QA1) - (QB0 - QB1)) * eb - (cr_sum - cxr_sum)) - lpart;
     g[1] = K * ((QA1 - QB1) * eb - cxr_sum) + lpart;
@@ -289,8 +308,8 @@ namespace {
     // B's line. Where the axes touch: the direction of the resultant.
     double xs = 0.5 * (lo + hi);
     if (qa > tiny) {
-      const double ext = dc / la;
-      xs = std::min(hi + ext, std::max(lo - ext, -0.5 * qb / qa));
+      const double ext = dc * inv_la;
+      xs = std::min(hi + ext, std::max(lo - ext, xvert));
     }
     const Vec3 rs = r0 + xs * r1;
     const double rn2 = norm2(rs);

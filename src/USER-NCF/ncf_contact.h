@@ -53,6 +53,7 @@ namespace NCF {
 //   segment's contact is computed and its node forces are mapped back to the real nodes by the
 //   chain rule (exact: force = -dE/dx, force and moment balance kept).
 constexpr double CORE_FRACTION = 0.57735026918962576;    // 1 / sqrt(3)
+constexpr double SQRT3 = 1.7320508075688772;
 // pair_style ncf/contact defaults of the two options (the generator keeps chains clear of the
 // end caps of this size)
 constexpr double DEFAULT_CORE = 10.0;     // kappa

@@ -462,9 +462,15 @@ double PairNCFContact::init_one(int i, int j)
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
   reach_max = MAX(reach_max, reachf[i][j]);
   tpar.resize((size_t) tstride * tstride);
-  const TypePair tpij{reachf[i][j], dc,        kn[i][j], ramp_frac * dc, ktr[i][j] * kn[i][j],
-                      mu[i][j],     damp[i][j]};
-  tpar[type_pair(i, j)] = tpar[type_pair(j, i)] = tpij;
+  TypePair &tpij = tpar[type_pair(i, j)];
+  tpij.reach = reachf[i][j];
+  tpij.dc = dc;
+  tpij.kn = kn[i][j];
+  tpij.ramp = ramp_frac * dc;
+  tpij.kt = ktr[i][j] * kn[i][j];
+  tpij.mu = mu[i][j];
+  tpij.damp = damp[i][j];
+  tpar[type_pair(j, i)] = tpij;
   return cut[i][j];
 }
 
@@ -838,8 +844,7 @@ void PairNCFContact::build_lists()
     const NCF::ClosestPoints cp =
         NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
     if (cp.dist2 >= (lim + extsum) * (lim + extsum)) return;
-    plist.push_back(
-        {ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum, type_pair(type[ao], type[bo])});
+    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum, type_pair(type[ao], type[bo])});
   };
 
   // the boxes: every segment (owner node, partner) known here, and every interior node

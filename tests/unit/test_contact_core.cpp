@@ -234,3 +234,95 @@ TEST(ContactEnds, CrossingAtAFreeEndIsFullyCovered)
   }
   EXPECT_EQ(crossing_force(-1.5 * D, true, ext), 0.0);
 }
+
+// The law's closed-form integration against a plain reference: the energy E = (k_n / 2) L_A
+// integral over xi in [0, 1] of W(s) (h^2 + kappa h_c^2), and the contact length l_c = L_A
+// integral of W where h > 0, summed with a composite 3-point Gauss rule over 4000 sub-intervals
+// straight from the definitions in ncf_contact.h (distance from B's infinite line, arc position
+// of the projection on B, weight ramps of half-width e). Random pairs: crossings, nearly
+// parallel and parallel pairs, short segments B (L_B < 2 e), penetrations into the core, with
+// and without it.
+namespace {
+struct Reference {
+  double energy = 0.0, length = 0.0;
+};
+Reference reference_law(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1, double core)
+{
+  const Vec3 da = a1 - a0, u = b1 - b0;
+  const double la = NCF::norm(da), lb = NCF::norm(u);
+  const Vec3 eb = (1.0 / lb) * u;
+  const double dcore = NCF::CORE_FRACTION * D;
+  // the integrand at xi: W (h^2 + kappa h_c^2) / 2 and W where h > 0
+  auto at = [&](double xi, double &e, double &l) {
+    const Vec3 x = a0 + xi * da;
+    const double s = NCF::dot(x - b0, eb);
+    const double r2 = NCF::norm2(x - b0 - s * eb);
+    const double w =
+        std::min(1.0, std::max(0.0, std::min(0.5 + s / (2 * RAMP), 0.5 + (lb - s) / (2 * RAMP))));
+    const double h = std::max(0.0, (D * D - r2) / (2 * D));
+    const double hc = std::max(0.0, (dcore * dcore - r2) / (2 * dcore));
+    e = 0.5 * w * (h * h + core * hc * hc);
+    l = h > 0.0 ? w : 0.0;
+  };
+  // the part of [0, 1] where the integrand is non-zero, from a fine scan (one step around it)
+  const int nscan = 100000;
+  double xlo = 1.0, xhi = 0.0;
+  for (int k = 0; k <= nscan; k++) {
+    double e, l;
+    at((double) k / nscan, e, l);
+    if (l > 0.0) {
+      xlo = std::min(xlo, std::max(0.0, (k - 1.0) / nscan));
+      xhi = std::max(xhi, std::min(1.0, (k + 1.0) / nscan));
+    }
+  }
+  Reference out;
+  if (!(xhi > xlo)) return out;
+  const int n = 4000;
+  const double gx[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, gw[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  const double dx = (xhi - xlo) / n;
+  for (int k = 0; k < n; k++)
+    for (int q = 0; q < 3; q++) {
+      double e, l;
+      at(xlo + (k + 0.5 + 0.5 * gx[q]) * dx, e, l);
+      out.energy += 0.5 * gw[q] * dx * KN * la * e;
+      out.length += 0.5 * gw[q] * dx * la * l;
+    }
+  return out;
+}
+}    // namespace
+
+TEST(ContactReference, ClosedFormMatchesDirectQuadrature)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int compared = 0, deep = 0;
+  for (int trial = 0; trial < 300; trial++) {
+    const double L = trial % 5 == 0 ? 0.3 * RAMP : 2e-4;    // short B now and then
+    const double ang = trial % 3 == 0 ? 1e-4 * U(rng) : (trial % 3 == 1 ? 0.0 : 1.5 * U(rng));
+    const Vec3 b0(0, 0, 0), b1(L, 0, 0);
+    const double pen = (0.5 + 0.5 * U(rng)) * (trial % 4 == 0 ? 0.7 : 0.2) * D;
+    const double la = 2e-4, c = std::cos(ang), sn = std::sin(ang);
+    const Vec3 mid(0.5 * L + 0.6 * L * U(rng), 0.3 * D * U(rng), D - pen);
+    const Vec3 dir(c, sn, 0.05 * U(rng));
+    const Vec3 a0 = mid - (0.5 * la * (0.5 + 0.5 * U(rng))) * dir;
+    const Vec3 a1 = mid + (0.5 * la * (0.5 + 0.5 * U(rng))) * dir;
+    for (double core : {0.0, KAPPA}) {
+      ContactOptions opt;
+      opt.core = core;
+      const auto cf = segment_contact(a0, a1, b0, b1, D, KN, RAMP, false, opt);
+      const Reference ref = reference_law(a0, a1, b0, b1, core);
+      if (!(ref.energy > 0.0)) {
+        EXPECT_LT(cf.energy, 1e-12 * KN * D * D * la) << "trial " << trial;
+        continue;
+      }
+      compared++;
+      if (std::fabs(mid.z) < NCF::CORE_FRACTION * D && core > 0.0) deep++;
+      EXPECT_NEAR(cf.energy, ref.energy, 1e-6 * ref.energy)
+          << "trial " << trial << " core " << core;
+      EXPECT_NEAR(cf.length, ref.length, 1e-3 * ref.length + 1e-4 * la)
+          << "trial " << trial << " core " << core;
+    }
+  }
+  EXPECT_GT(compared, 300);
+  EXPECT_GT(deep, 20);
+}
