@@ -4,6 +4,7 @@
 # relative to LAMMPS pair gran/hooke/history on a sphere packing with the same number of particles
 # and a comparable number of contacts, and the 1 -> 2 rank speed-up of the mat.
 # Usage: bench/run.sh [steps]   (after tools/setup.sh; uses build/ncf-env.sh)
+# NCF_BENCH_REPS=n: repetitions of the timed runs (default 3); NCF_BENCH_KEEP=1 keeps the logs
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -28,31 +29,47 @@ nz=$(python3 -c "print(round($nodes/($side*$side)))")
 
 loop() { awk '/^Loop time of/{t=$4} END{print t}' "$1"; }
 pairt() { awk '/^Pair  *\|/{t=$3} END{print t}' "$1"; }
+grains_of() { awk '/^Loop time of/{n=$NF=="atoms"?$(NF-1):n} END{print n}' "$1"; }
 contacts() { awk -v col="$2" 'f&&NF>=col&&$1~/^[0-9]+$/{c=$col} /^ *Step/{f=1} END{print c}' "$1"; }
 
-lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf1.log -screen none
-"${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf2.log -screen none
-lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.0 -var steps "$steps" -log ncf1mu0.log -screen none
-lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$steps" -log gran1.log -screen none
-grains=$(awk '/^Loop time of/{n=$NF=="atoms"?$(NF-1):n} END{print n}' gran1.log)
+# The timed runs, repeated (NCF_BENCH_REPS, default 3) and interleaved, so that a slow spell of a
+# shared machine hits every kind alike; each kind is timed by its fastest repetition (the run least
+# disturbed), and the ratio of every single repetition is printed as well to show the scatter
+reps=${NCF_BENCH_REPS:-3}
+# the spheres are ~6 times cheaper per step: 5 times the steps, so that both are timed over about
+# the same wall time
+gsteps=$((5 * steps))
+ncf() { lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu "$1" -var steps "$steps" -log "$2" -screen none; }
+for r in $(seq "$reps"); do
+  ncf 0.3 ncf1.$r.log
+  lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$gsteps" -log gran1.$r.log -screen none
+  "${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf2.$r.log -screen none
+  ncf 0.0 ncf1mu0.$r.log
+  r1=$(loop ncf1.$r.log) r2=$(loop ncf2.$r.log) rg=$(loop gran1.$r.log) gn=$(grains_of gran1.$r.log)
+  python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2:.2f}')"
+done
+# the fastest repetition of each kind
+fastest() { for f in "$@"; do echo "$(loop "$f") $f"; done | sort -g | head -1 | cut -d' ' -f2; }
+f1=$(fastest ncf1.*.log); f2=$(fastest ncf2.*.log); f0=$(fastest ncf1mu0.*.log); fg=$(fastest gran1.*.log)
+grains=$(grains_of "$fg")
 
-t1=$(loop ncf1.log); t2=$(loop ncf2.log); t0=$(loop ncf1mu0.log); tg=$(loop gran1.log)
-p1=$(pairt ncf1.log); p0=$(pairt ncf1mu0.log); pg=$(pairt gran1.log)
-c_ncf=$(contacts ncf1.log 4); c_gran=$(contacts gran1.log 3)
+t1=$(loop "$f1"); t2=$(loop "$f2"); t0=$(loop "$f0"); tg=$(loop "$fg")
+p1=$(pairt "$f1"); p0=$(pairt "$f0"); pg=$(pairt "$fg")
+c_ncf=$(contacts "$f1" 4); c_gran=$(contacts "$fg" 3)
 builds() { awk '/^Neighbor list builds/{n=$NF} END{print n}' "$1"; }
 # (without friction the mat relaxed with friction slides a little: a few builds in the mu = 0 run)
-echo "list builds in the timed steps: ncf/contact $(builds ncf1.log) (2 ranks $(builds ncf2.log), mu = 0 $(builds ncf1mu0.log)), gran/hooke/history $(builds gran1.log)"
-python3 - "$nodes" "$grains" "$steps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" <<'PY'
+echo "list builds in the timed steps: ncf/contact $(builds "$f1") (2 ranks $(builds "$f2"), mu = 0 $(builds "$f0")), gran/hooke/history $(builds "$fg")"
+python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" <<'PY'
 import sys
-nodes, grains, steps = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
-t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[4:11])
-c_ncf, c_gran = float(sys.argv[11]), float(sys.argv[12]) / 2.0   # contact/atom counts each contact twice
-per = lambda t, n: t / (n * steps) * 1e6
+nodes, grains, steps, gsteps = map(int, sys.argv[1:5])
+t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[5:12])
+c_ncf, c_gran = float(sys.argv[12]), float(sys.argv[13]) / 2.0   # contact/atom counts each contact twice
+per = lambda t, n, k=steps: t / (n * k) * 1e6
 print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
 print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
 print(f"cost per node per step [us]: ncf/contact {per(t1, nodes):.3f} (pair {per(p1, nodes):.3f}), "
-      f"mu=0 {per(t0, nodes):.3f} (pair {per(p0, nodes):.3f}), gran/hooke/history {per(tg, grains):.3f} (pair {per(pg, grains):.3f})")
+      f"mu=0 {per(t0, nodes):.3f} (pair {per(p0, nodes):.3f}), gran/hooke/history {per(tg, grains, gsteps):.3f} (pair {per(pg, grains, gsteps):.3f})")
 print(f"mu = 0 (no history stored or communicated): pair {100 * (1 - p0 / p1):.1f} % cheaper, whole step {100 * (1 - t0 / t1):.1f} % cheaper")
-ratio = per(t1, nodes) / per(tg, grains)
+ratio = per(t1, nodes) / per(tg, grains, gsteps)
 print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2:.2f}")
 PY
