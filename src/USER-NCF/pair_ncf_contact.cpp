@@ -955,6 +955,7 @@ void PairNCFContact::build_lists()
       }
     }
   pact.assign(plist.size(), 0);
+  phas.assign(plist.size(), 0);
   if (use_history) load_history();
 }
 
@@ -998,12 +999,19 @@ void PairNCFContact::store_history()
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   double **hist = atom->darray[idx_hist];
-  // the pair list is in the order of the owned nodes, so the contacts of a node are consecutive
-  const int np = (int) plist.size();
+  // the entries in contact, gathered without branches (a third of them, unpredictably); the pair
+  // list is in the order of the owned nodes, so the contacts of a node are consecutive
+  const int npl = (int) plist.size();
+  work.resize(npl);
+  int np = 0;
+  for (int e = 0; e < npl; e++) {
+    work[np] = e;
+    np += phas[e] != 0;
+  }
   int owner = -1, n = 0;
-  for (int e = 0; e <= np; e++) {
-    if (e < np && !phas[e]) continue;
-    const int ao = e < np ? plist[e].a0 : -1;
+  for (int k = 0; k <= np; k++) {
+    const int e = k < np ? work[k] : -1;
+    const int ao = k < np ? plist[e].a0 : -1;
     if (ao != owner) {
       if (owner >= 0) {
         hcount[owner] = -1 - n;    // visited (decoded below)
@@ -1014,7 +1022,7 @@ void PairNCFContact::store_history()
       if (owner >= 0 && hcount[owner] < 0)
         error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
     }
-    if (e == np) break;
+    if (k == np) break;
     if (n >= maxcontacts)
       error->one(FLERR,
                  "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
@@ -1225,16 +1233,20 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
     return false;
   };
+  // the entries within the largest reach after the displacement bound of all nodes, gathered
+  // without branches first (about a third drop out, unpredictably); the others are no contact
+  // (the distances d of the pair list are net of the extensions at free ends)
   const int npairs = (int) plist.size();
+  work.resize(npairs);
+  int nwork = 0;
   for (int e = 0; e < npairs; e++) {
-    // (the distances d of the pair list are net of the extensions at free ends)
-    if (plist[e].d - dglob >= reach_max) {
-      pact[e] = 0;
-      if (use_history) phas[e] = 0;
-      continue;
-    }
-    pair_contact(e, use_history);
+    const unsigned char near = plist[e].d - dglob < reach_max;
+    work[nwork] = e;
+    nwork += near;
+    pact[e] &= near;
+    phas[e] &= near;    // (all 0 without friction)
   }
+  for (int k = 0; k < nwork; k++) pair_contact(work[k], use_history);
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
   // rows of the previous step, not yet replaced) only in steps where some rank has one
   if (use_history) {
@@ -1248,8 +1260,17 @@ void PairNCFContact::compute(int eflag, int vflag)
   }
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
-  for (const CapCand &cc : clist) {
-    if (cc.d - dglob >= diam_max) continue;
+  // (the caps within the largest diameter after the displacement bound of all nodes gathered
+  // first, without branches)
+  const int ncaps = (int) clist.size();
+  work.resize(ncaps);
+  int nnear = 0;
+  for (int e = 0; e < ncaps; e++) {
+    work[nnear] = e;
+    nnear += clist[e].d - dglob < diam_max;
+  }
+  for (int w = 0; w < nnear; w++) {
+    const CapCand &cc = clist[work[w]];
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const TypePair &tp = tpar[cc.tp];
     const double dc = tp.dc;
