@@ -323,10 +323,7 @@ namespace {
         out.fn = fr;
       }
     }
-    if (with_penetration) {
-      const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
-      out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
-    }
+    if (with_penetration) out.penetration = segment_penetration(a0, a1, b0, b1, dc);
     return out;
   }
 
@@ -367,10 +364,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   unextend(b0, b1, e[2], e[3], out.f[2], out.f[3], out.t);
   // the penetration of the chains themselves: two extended tips may overlap (their weights
   // fade out there) without any chain coming closer to another
-  if (with_penetration) {
-    const ClosestPoints cp = closest_points_segments(a0, a1, b0, b1);
-    out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
-  }
+  if (with_penetration) out.penetration = segment_penetration(a0, a1, b0, b1, dc);
   return out;
 }
 

@@ -1140,12 +1140,15 @@ void PairNCFContact::compute(int eflag, int vflag)
   // whose take-over needs the history of a pair owned by another rank (a ghost's row) is
   // deferred (returns true) until that history has been communicated
   deferred.clear();
-  auto pair_contact = [&](int e, bool may_defer) -> bool {
+  // The contact of a list entry in three parts: prepare (bookkeeping, bounds and prefilter; false
+  // if the law need not be evaluated), the law, finish (friction, forces, counters; true if
+  // deferred). The main loop evaluates the law of the common pairs in batches (below).
+  auto prepare = [&](int e, bool &had) -> bool {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     // whether the pair was in contact (had a stored slip) in the previous step; cleared until
     // the pair stores a slip again in this step
-    bool had = false;
+    had = false;
     if (use_history) {
       had = phas[e] != 0;
       phas[e] = 0;
@@ -1153,24 +1156,34 @@ void PairNCFContact::compute(int eflag, int vflag)
     const TypePair &tp = tpar[pc.tp];
     const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
     if (pc.d - dmv >= tp.reach) return false;
-    const double dc = tp.dc;
-    const Vec3 xa0(xof(ao)), xa1(xof(ia)), xb0(xof(bo)), xb1(xof(jb));
-    NCF::ContactOptions opt;
-    opt.core = core;
-    opt.ext[0] = xof(ao)[7];
-    opt.ext[1] = xof(ia)[7];
-    opt.ext[2] = xof(bo)[7];
-    opt.ext[3] = xof(jb)[7];
     // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
     // that were not in contact in the previous step (most that were still are)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
-    if (!was_active && pc.d + dmv >= dc &&
-        !NCF::segment_contact_possible(xa0, xa1, xb0, xb1, dc, tp.ramp, opt.ext))
-      return false;
-    const NCF::SegmentContact c =
-        NCF::segment_contact(xa0, xa1, xb0, xb1, dc, tp.kn, tp.ramp, eflag_global != 0, opt);
+    if (!was_active && pc.d + dmv >= tp.dc) {
+      const double ext[4] = {xof(ao)[7], xof(ia)[7], xof(bo)[7], xof(jb)[7]};
+      if (!NCF::segment_contact_possible(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(bo)), Vec3(xof(jb)),
+                                         tp.dc, tp.ramp, ext))
+        return false;
+    }
+    return true;
+  };
+  // the law of entry e by the scalar kernel (any case)
+  auto law = [&](int e) {
+    const PairCand &pc = plist[e];
+    const TypePair &tp = tpar[pc.tp];
+    NCF::ContactOptions opt;
+    opt.core = core;
+    const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+    for (int m = 0; m < 4; m++) opt.ext[m] = xof(nodes[m])[7];
+    return NCF::segment_contact(Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)),
+                                Vec3(xof(pc.b1)), tp.dc, tp.kn, tp.ramp, eflag_global != 0, opt);
+  };
+  auto finish = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer) -> bool {
     if (!c.active) return false;
+    const PairCand &pc = plist[e];
+    const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
+    const TypePair &tp = tpar[pc.tp];
     pact[e] = 1;
 
     Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
@@ -1233,6 +1246,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
     return false;
   };
+  auto pair_contact = [&](int e, bool may_defer) -> bool {
+    bool had;
+    if (!prepare(e, had)) return false;
+    return finish(e, law(e), had, may_defer);
+  };
   // the entries within the largest reach after the displacement bound of all nodes, gathered
   // without branches first (about a third drop out, unpredictably); the others are no contact
   // (the distances d of the pair list are net of the extensions at free ends)
@@ -1246,7 +1264,49 @@ void PairNCFContact::compute(int eflag, int vflag)
     pact[e] &= near;
     phas[e] &= near;    // (all 0 without friction)
   }
-  for (int k = 0; k < nwork; k++) pair_contact(work[k], use_history);
+  // Pairs without free-end extensions go through the batched law, which evaluates the common
+  // case (a single piece of the integral) several pairs per vector instruction and hands the
+  // others back to the scalar law (NCF::segment_contact_batch)
+  int lane_e[NCF::CONTACT_BATCH];
+  bool lane_had[NCF::CONTACT_BATCH];
+  batch.n = 0;
+  auto flush = [&]() {
+    NCF::segment_contact_batch(batch, core);
+    for (int l = 0; l < batch.n; l++) {
+      const int e = lane_e[l];
+      if (batch.status[l] < 0.0) {
+        finish(e, law(e), lane_had[l], use_history);
+        continue;
+      }
+      NCF::SegmentContact c = batch.result(l);
+      if (c.active && eflag_global) {
+        const PairCand &pc = plist[e];
+        c.penetration = NCF::segment_penetration(
+            Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tpar[pc.tp].dc);
+      }
+      finish(e, c, lane_had[l], use_history);
+    }
+    batch.n = 0;
+  };
+  for (int k = 0; k < nwork; k++) {
+    const int e = work[k];
+    bool had;
+    if (!prepare(e, had)) continue;
+    const PairCand &pc = plist[e];
+    if (xof(pc.a0)[7] != 0.0 || xof(pc.a1)[7] != 0.0 || xof(pc.b0)[7] != 0.0 ||
+        xof(pc.b1)[7] != 0.0) {
+      finish(e, law(e), had, use_history);
+      continue;
+    }
+    const TypePair &tp = tpar[pc.tp];
+    const int l = batch.n++;
+    batch.set(l, Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tp.dc,
+              tp.kn, tp.ramp);
+    lane_e[l] = e;
+    lane_had[l] = had;
+    if (batch.n == NCF::CONTACT_BATCH) flush();
+  }
+  if (batch.n > 0) flush();
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
   // rows of the previous step, not yet replaced) only in steps where some rank has one
   if (use_history) {

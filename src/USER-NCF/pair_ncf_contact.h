@@ -16,6 +16,8 @@ PairStyle(ncf/contact,PairNCFContact);
 
 #include "pair.h"
 
+#include "ncf_contact.h"
+
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -89,6 +91,7 @@ class PairNCFContact : public Pair {
   std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> work;              // pair list entries gathered for a loop (compute, store)
+  NCF::ContactBatch batch;            // lanes of the batched contact law
   std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;    // per local+ghost atom, one cache line: position, displacement

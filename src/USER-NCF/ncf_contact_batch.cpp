@@ -1,0 +1,177 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: batched evaluation of the segment-segment contact law (see ncf_contact.h).
+
+   The same law and the same formulas as contact_of_segments in ncf_contact.cpp, restricted to
+   the case where the integral along A is a single piece (one regime of B's weight, no core
+   boundary), written without branches: every lane computes everything and the case decisions
+   become selects. The loop over the lanes is then one straight block that the compiler
+   vectorises (compiled with -fno-math-errno -fno-trapping-math, so that the square roots and the
+   divisions on either side of a select vectorise too). Lanes
+   outside the case get status -1 and are left to segment_contact, which is the reference this
+   code is tested against.
+------------------------------------------------------------------------- */
+
+#include "ncf_contact.h"
+
+#include <cmath>
+
+namespace NCF {
+
+void segment_contact_batch(ContactBatch &b, double core)
+{
+  const int n = b.n;
+  const double kap = core;
+  const double cf2 = CORE_FRACTION * CORE_FRACTION;
+  for (int l = 0; l < n; l++) {
+    const double ax0 = b.x[0][l], ay0 = b.x[1][l], az0 = b.x[2][l];
+    const double dax = b.x[3][l] - ax0, day = b.x[4][l] - ay0, daz = b.x[5][l] - az0;
+    const double bx0 = b.x[6][l], by0 = b.x[7][l], bz0 = b.x[8][l];
+    const double ux = b.x[9][l] - bx0, uy = b.x[10][l] - by0, uz = b.x[11][l] - bz0;
+    const double dc = b.dc[l], kn = b.kn[l], e = b.ramp[l];
+    const double la2 = dax * dax + day * day + daz * daz, lb2 = ux * ux + uy * uy + uz * uz;
+    const double lmin2 = MIN_LENGTH * MIN_LENGTH * dc * dc;
+    const bool sizes = (la2 > lmin2) & (lb2 > lmin2);
+    const double lb2s = sizes ? lb2 : 1.0, la2s = sizes ? la2 : 1.0;
+
+    // A's line relative to B's: r(xi) = r0 + xi r1, r^2 = qa xi^2 + qb xi + qc
+    const double inv_lb2 = 1.0 / lb2s;
+    const double w0x = ax0 - bx0, w0y = ay0 - by0, w0z = az0 - bz0;
+    const double t0 = (w0x * ux + w0y * uy + w0z * uz) * inv_lb2;
+    const double t1 = (dax * ux + day * uy + daz * uz) * inv_lb2;
+    const double r0x = w0x - t0 * ux, r0y = w0y - t0 * uy, r0z = w0z - t0 * uz;
+    const double r1x = dax - t1 * ux, r1y = day - t1 * uy, r1z = daz - t1 * uz;
+    const double d2 = dc * dc;
+    const double qa = r1x * r1x + r1y * r1y + r1z * r1z;
+    const double qb = 2.0 * (r0x * r1x + r0y * r1y + r0z * r1z);
+    const double qc = r0x * r0x + r0y * r0y + r0z * r0z;
+    const double qcp = qc - d2;
+    // not within 1e-3 rad of parallel (qa = la^2 sin^2 of the angle)
+    const bool crossing = qa > 1e-6 * la2s;
+    const double qas = crossing ? qa : 1.0;
+
+    // the zone r < D on A's line (negative_interval, quadratic case)
+    const double disc = qb * qb - 4.0 * qa * qcp;
+    const bool hit = disc > 0.0;
+    const double sq = std::sqrt(hit ? disc : 0.0);
+    const double qq0 = -0.5 * (qb + (qb >= 0.0 ? sq : -sq));
+    const double qq = hit ? qq0 : 1.0;
+    const double x1 = qq / qas, x2 = qcp / qq;
+    const double rlo = x1 < x2 ? x1 : x2, rhi = x1 < x2 ? x2 : x1;
+    const double xvert = 0.5 * (rlo + rhi);
+    const double lo = rlo > 0.0 ? rlo : 0.0, hi = rhi < 1.0 ? rhi : 1.0;
+
+    // arc positions on B at the two ends of the zone, and the regime of the weight there
+    const double inv_lb = std::sqrt(inv_lb2), lb = lb2s * inv_lb, la = std::sqrt(la2s);
+    const double s0 = t0 * lb, s1 = t1 * lb;
+    const double slo = s0 + s1 * lo, shi = s0 + s1 * hi;
+    const double smin = slo < shi ? slo : shi, smax = slo < shi ? shi : slo;
+    const bool outside = (smax <= -e) | (smin >= lb + e);    // W = 0 over the whole zone
+    const bool plateau = (smin >= e) & (smax <= lb - e);
+    const bool ramp1 = (smin >= -e) & (smax <= e);
+    const bool ramp2 = (smin >= lb - e) & (smax <= lb + e);
+    const bool long_b = lb >= 2.0 * e;
+    // the core: the smallest r^2 over the zone must stay outside it
+    const double xc = xvert < lo ? lo : (xvert > hi ? hi : xvert);
+    const double r2min = (qa * xc + qb) * xc + qc;
+    const bool clear_of_core = !(kap > 0.0) | (r2min >= cf2 * d2);
+
+    // the single piece in closed form (as in contact_of_segments)
+    const double inv2e = 0.5 / e;
+    const double hw = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+    const double sm = s0 + s1 * mid;
+    const double wm = plateau ? 1.0 : (ramp1 ? 0.5 + sm * inv2e : 0.5 + (lb - sm) * inv2e);
+    const double wy = plateau ? 0.0 : (ramp1 ? s1 * inv2e : -s1 * inv2e);
+    const double inv2d = 0.5 / dc, invd = 2.0 * inv2d;
+    const double kd = inv2d * invd, bd = 0.5 * inv2d * inv2d;
+    const double r2m = (qa * mid + qb) * mid + qc;
+    const double g0 = d2 - r2m, g1 = -(2.0 * qa * mid + qb), g2 = -qa;
+    const double A0 = kd * g0, A1 = kd * g1, A2 = kd * g2;
+    const double B0 = bd * g0 * g0, B1 = bd * 2.0 * g0 * g1, B2 = bd * (g1 * g1 + 2.0 * g0 * g2),
+                 B3 = bd * 2.0 * g1 * g2, B4 = bd * g2 * g2;
+    const double hw2 = hw * hw;
+    const double m0 = 2.0 * hw, m2 = m0 * hw2 * (1.0 / 3.0), m4 = m0 * hw2 * hw2 * 0.2;
+    const double H0 = B0 * m0 + B2 * m2 + B4 * m4, H1 = B1 * m2 + B3 * m4;
+    const double I0 = A0 * m0 + A2 * m2, I1 = A1 * m2, I2 = A0 * m2 + A2 * m4, I3 = A1 * m4;
+    const double c0 = wm * I0 + wy * I1, c1 = wm * I1 + wy * I2, c2 = wm * I2 + wy * I3;
+    const double L0 = wm * m0, P0 = wm * H0 + wy * H1;
+    const double C0 = c0, C1 = mid * c0 + c1, C2 = mid * (mid * c0 + 2.0 * c1) + c2;
+    const double Q0 = H0 * inv2e, Q1 = (mid * H0 + H1) * inv2e;
+    const bool on_a = !plateau & ramp1, on_b = !plateau & !ramp1 & ramp2;    // ramp of the piece
+    const double QA0 = on_a ? Q0 : 0.0, QA1 = on_a ? Q1 : 0.0;
+    const double QB0 = on_b ? Q0 : 0.0, QB1 = on_b ? Q1 : 0.0;
+    const double energy = kn * la * P0, length = la * L0;
+    const bool active = (energy > 0.0) | (length > 0.0);
+
+    // gradient (as in contact_of_segments): g = alpha r0 + beta r1 + gamma eb + delta da
+    const double ebx = inv_lb * ux, eby = inv_lb * uy, ebz = inv_lb * uz;
+    const double inv_la = 1.0 / la;
+    const double K = kn * la, lp = kn * P0 * inv_la;
+    const double crx = C0 * r0x + C1 * r1x, cry = C0 * r0y + C1 * r1y, crz = C0 * r0z + C1 * r1z;
+    const double cxx = C1 * r0x + C2 * r1x, cxy = C1 * r0y + C2 * r1y, cxz = C1 * r0z + C2 * r1z;
+    const double ctx = inv_lb * (s0 * crx + s1 * cxx), cty = inv_lb * (s0 * cry + s1 * cxy),
+                 ctz = inv_lb * (s0 * crz + s1 * cxz);
+    const double qax = inv_lb * (QA0 * r0x + QA1 * r1x), qay = inv_lb * (QA0 * r0y + QA1 * r1y),
+                 qaz = inv_lb * (QA0 * r0z + QA1 * r1z);
+    const double qbx = inv_lb * (QB0 * r0x + QB1 * r1x), qby = inv_lb * (QB0 * r0y + QB1 * r1y),
+                 qbz = inv_lb * (QB0 * r0z + QB1 * r1z);
+    const double e0 = (QA0 - QA1) - (QB0 - QB1), e1 = QA1 - QB1;
+    // forces -g on A0, A1, B0, B1
+    b.f[0][l] = -(K * (e0 * ebx - (crx - cxx)) - lp * dax);
+    b.f[1][l] = -(K * (e0 * eby - (cry - cxy)) - lp * day);
+    b.f[2][l] = -(K * (e0 * ebz - (crz - cxz)) - lp * daz);
+    b.f[3][l] = -(K * (e1 * ebx - cxx) + lp * dax);
+    b.f[4][l] = -(K * (e1 * eby - cxy) + lp * day);
+    b.f[5][l] = -(K * (e1 * ebz - cxz) + lp * daz);
+    b.f[6][l] = -(K * ((crx - ctx) - QA0 * ebx - qax + qbx));
+    b.f[7][l] = -(K * ((cry - cty) - QA0 * eby - qay + qby));
+    b.f[8][l] = -(K * ((crz - ctz) - QA0 * ebz - qaz + qbz));
+    b.f[9][l] = -(K * (ctx + qax + QB0 * ebx - qbx));
+    b.f[10][l] = -(K * (cty + qay + QB0 * eby - qby));
+    b.f[11][l] = -(K * (ctz + qaz + QB0 * ebz - qbz));
+
+    // contact point (centroid of the penetration density) and normal (see contact_of_segments)
+    const double xi = C0 > 0.0 ? C1 / (C0 > 0.0 ? C0 : 1.0) : mid;
+    const double tt = (s0 + s1 * xi) * inv_lb;
+    const double ext = dc * inv_la;
+    const double xlo = lo - ext, xhi = hi + ext;
+    const double xs = xvert < xlo ? xlo : (xvert > xhi ? xhi : xvert);
+    const double rsx = r0x + xs * r1x, rsy = r0y + xs * r1y, rsz = r0z + xs * r1z;
+    const double rn2 = rsx * rsx + rsy * rsy + rsz * rsz;
+    const bool apart = rn2 > 1e-18 * d2;    // else the axes touch: left to segment_contact
+    const double inv_rn = 1.0 / std::sqrt(apart ? rn2 : 1.0);
+    const double nx = rsx * inv_rn, ny = rsy * inv_rn, nz = rsz * inv_rn;
+    const double fdot = K * (crx * nx + cry * ny + crz * nz);
+
+    b.energy[l] = energy;
+    b.length[l] = length;
+    b.xi[l] = xi;
+    b.t[l] = tt < 0.0 ? 0.0 : (tt > 1.0 ? 1.0 : tt);
+    b.normal[0][l] = nx;
+    b.normal[1][l] = ny;
+    b.normal[2][l] = nz;
+    b.fn[l] = fdot > 0.0 ? fdot : 0.0;
+
+    // status: the cases decided here; everything else goes to segment_contact
+    const bool none = !hit | !(hi > lo) | outside;
+    const bool in_case = sizes & crossing & long_b;
+    const bool piece = (plateau | ramp1 | ramp2) & clear_of_core & apart;
+    b.status[l] = !in_case ? -1.0 : (none ? 0.0 : (!piece ? -1.0 : (active ? 1.0 : 0.0)));
+  }
+}
+
+SegmentContact ContactBatch::result(int lane) const
+{
+  SegmentContact c;
+  if (!(status[lane] > 0.0)) return c;
+  c.active = true;
+  c.energy = energy[lane];
+  for (int m = 0; m < 4; m++) c.f[m] = Vec3(f[3 * m][lane], f[3 * m + 1][lane], f[3 * m + 2][lane]);
+  c.fn = fn[lane];
+  c.normal = Vec3(normal[0][lane], normal[1][lane], normal[2][lane]);
+  c.xi = xi[lane];
+  c.t = t[lane];
+  c.length = length[lane];
+  return c;
+}
+
+}    // namespace NCF

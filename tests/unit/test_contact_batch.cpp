@@ -1,0 +1,115 @@
+// The batched contact law (segment_contact_batch, ncf_contact.h) against the scalar law
+// segment_contact as the reference: every lane the batch evaluates must give the same contact
+// (status, energy, forces, normal force and direction, contact point, contact length) to
+// round-off, and the lanes it leaves to the scalar law must be the cases it does not cover. The
+// random pairs mix crossings, pairs in the ramps and on the plateau of B's weight, contacts deep
+// in the core, nearly and exactly parallel pairs, short segments and touching axes.
+
+#include "ncf_contact.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using NCF::ContactBatch;
+using NCF::Vec3;
+
+namespace {
+
+const double D = 69e-6;
+const double KN = 1e9;
+const double RAMP = 0.25 * D;
+
+struct Pair {
+  Vec3 a0, a1, b0, b1;
+};
+
+std::vector<Pair> random_pairs(int n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::vector<Pair> out;
+  for (int k = 0; k < n; k++) {
+    const int kind = k % 8;
+    const double lb = kind == 5 ? 1.5 * RAMP * (1.0 + U(rng)) : 2e-4 * (1.0 + 0.3 * U(rng));
+    const double la = kind == 6 ? 0.5 * RAMP * (1.0 + U(rng)) : 2e-4 * (1.0 + 0.3 * U(rng));
+    double ang = 1.5 * U(rng);
+    if (kind == 3) ang = 1e-4 * U(rng);    // nearly parallel
+    if (kind == 4) ang = 0.0;              // exactly parallel
+    const double pen = (kind == 2 ? 0.7 : 0.15) * D * (0.5 + 0.5 * U(rng));
+    double gap = D - pen;
+    if (kind == 7) gap = 1e-12 * U(rng);    // axes (nearly) touching
+    // A crosses B's line near an arbitrary point of B (plateau or ramps), slightly tilted
+    const double sB = lb * (0.5 + 0.7 * U(rng));
+    const Vec3 b0(0, 0, 0), b1(lb, 0, 0);
+    const Vec3 c(sB, 0.2 * D * U(rng), gap);
+    const Vec3 d0(std::cos(ang), std::sin(ang), 0.1 * U(rng));
+    const Vec3 dir = (1.0 / NCF::norm(d0)) * d0;
+    const double back = la * (0.5 + 0.4 * U(rng));
+    out.push_back({c - back * dir, c + (la - back) * dir, b0, b1});
+  }
+  return out;
+}
+
+double scale_of(const NCF::SegmentContact &c)
+{
+  double s = 0.0;
+  for (int m = 0; m < 4; m++) s = std::max(s, NCF::norm(c.f[m]));
+  return s;
+}
+
+}    // namespace
+
+TEST(ContactBatch, EqualsTheScalarLawLaneByLane)
+{
+  for (double core : {0.0, NCF::DEFAULT_CORE}) {
+    const std::vector<Pair> pairs = random_pairs(40000, 5);
+    NCF::ContactOptions opt;
+    opt.core = core;
+    int fast = 0, fast_active = 0, left = 0, left_active = 0;
+    ContactBatch b;
+    for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
+      b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
+      for (int l = 0; l < b.n; l++) {
+        const Pair &p = pairs[start + l];
+        b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
+      }
+      NCF::segment_contact_batch(b, core);
+      for (int l = 0; l < b.n; l++) {
+        const Pair &p = pairs[start + l];
+        const auto ref = NCF::segment_contact(p.a0, p.a1, p.b0, p.b1, D, KN, RAMP, false, opt);
+        const int k = (int) (start + l);
+        if (b.status[l] < 0.0) {
+          left++;
+          left_active += ref.active;
+          continue;
+        }
+        fast++;
+        const auto c = b.result(l);
+        ASSERT_EQ(c.active, ref.active) << "pair " << k << " core " << core;
+        if (!ref.active) continue;
+        fast_active++;
+        const double fs = scale_of(ref), tol = 1e-9;
+        EXPECT_NEAR(c.energy, ref.energy, tol * ref.energy) << "pair " << k;
+        for (int m = 0; m < 4; m++)
+          for (int d = 0; d < 3; d++)
+            EXPECT_NEAR(c.f[m][d], ref.f[m][d], tol * fs) << "pair " << k << " node " << m;
+        EXPECT_NEAR(c.fn, ref.fn, tol * fs) << "pair " << k;
+        EXPECT_NEAR(NCF::norm(c.normal - ref.normal), 0.0, tol) << "pair " << k;
+        EXPECT_NEAR(c.xi, ref.xi, tol) << "pair " << k;
+        EXPECT_NEAR(c.t, ref.t, tol) << "pair " << k;
+        EXPECT_NEAR(c.length, ref.length, tol * ref.length) << "pair " << k;
+      }
+    }
+    // both sides are exercised: the batch takes the single-piece crossings (a quarter of these
+    // pairs, which are drawn to hit the ramps, the core and the parallel cases often), the scalar
+    // law the rest
+    EXPECT_GT(fast_active, 8000) << "core " << core;
+    EXPECT_GT(left_active, 8000) << "core " << core;
+    printf("core %g: %d pairs evaluated by the batch (%d in contact), %d left to the scalar law "
+           "(%d in contact)\n",
+           core, fast, fast_active, left, left_active);
+  }
+}
