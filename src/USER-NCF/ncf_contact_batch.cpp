@@ -17,6 +17,12 @@
 
 namespace NCF {
 
+// Compiled twice, for AVX2 (4 lanes per instruction) and for the x86-64 baseline (SSE2, 2 lanes),
+// chosen when the library is loaded. No FMA: every lane rounds exactly as the scalar law's
+// operations do, whichever version runs.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void segment_contact_batch(ContactBatch &b, double core)
 {
   const int n = b.n;
