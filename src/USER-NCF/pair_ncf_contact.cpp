@@ -1143,7 +1143,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   // The contact of a list entry in three parts: prepare (bookkeeping, bounds and prefilter; false
   // if the law need not be evaluated), the law, finish (friction, forces, counters; true if
   // deferred). The main loop evaluates the law of the common pairs in batches (below).
-  auto prepare = [&](int e, bool &had) -> bool {
+  auto prepare = [&](int e, bool &had, bool prefilter) -> bool {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     // whether the pair was in contact (had a stored slip) in the previous step; cleared until
@@ -1157,16 +1157,14 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
     if (pc.d - dmv >= tp.reach) return false;
     // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
-    // that were not in contact in the previous step (most that were still are)
+    // that were not in contact in the previous step (most that were still are) and that go to
+    // the scalar law (the batched law rejects as fast)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
-    if (!was_active && pc.d + dmv >= tp.dc) {
-      const double ext[4] = {xof(ao)[7], xof(ia)[7], xof(bo)[7], xof(jb)[7]};
-      if (!NCF::segment_contact_possible(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(bo)), Vec3(xof(jb)),
-                                         tp.dc, tp.ramp, ext))
-        return false;
-    }
-    return true;
+    if (!prefilter || was_active || pc.d + dmv < tp.dc) return true;
+    const double ext[4] = {xof(ao)[7], xof(ia)[7], xof(bo)[7], xof(jb)[7]};
+    return NCF::segment_contact_possible(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(bo)), Vec3(xof(jb)),
+                                         tp.dc, tp.ramp, ext);
   };
   // the law of entry e by the scalar kernel (any case)
   auto law = [&](int e) {
@@ -1248,7 +1246,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
     bool had;
-    if (!prepare(e, had)) return false;
+    if (!prepare(e, had, true)) return false;
     return finish(e, law(e), had, may_defer);
   };
   // the entries within the largest reach after the displacement bound of all nodes, gathered
@@ -1290,14 +1288,14 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
-    bool had;
-    if (!prepare(e, had)) continue;
     const PairCand &pc = plist[e];
     if (xof(pc.a0)[7] != 0.0 || xof(pc.a1)[7] != 0.0 || xof(pc.b0)[7] != 0.0 ||
         xof(pc.b1)[7] != 0.0) {
-      finish(e, law(e), had, use_history);
+      pair_contact(e, use_history);
       continue;
     }
+    bool had;
+    if (!prepare(e, had, false)) continue;
     const TypePair &tp = tpar[pc.tp];
     const int l = batch.n++;
     batch.set(l, Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tp.dc,
