@@ -4,7 +4,7 @@
 # relative to LAMMPS pair gran/hooke/history on a sphere packing with the same number of particles
 # and a comparable number of contacts, and the 1 -> 2 rank speed-up of the mat.
 # Usage: bench/run.sh [steps]   (after tools/setup.sh; uses build/ncf-env.sh)
-# NCF_BENCH_REPS=n: repetitions of the timed runs (default 3); NCF_BENCH_KEEP=1 keeps the logs
+# NCF_BENCH_REPS=n: repetitions of the timed runs (default 5); NCF_BENCH_KEEP=1 keeps the logs
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -32,10 +32,10 @@ pairt() { awk '/^Pair  *\|/{t=$3} END{print t}' "$1"; }
 grains_of() { awk '/^Loop time of/{n=$NF=="atoms"?$(NF-1):n} END{print n}' "$1"; }
 contacts() { awk -v col="$2" 'f&&NF>=col&&$1~/^[0-9]+$/{c=$col} /^ *Step/{f=1} END{print c}' "$1"; }
 
-# The timed runs, repeated (NCF_BENCH_REPS, default 3) and interleaved, so that a slow spell of a
+# The timed runs, repeated (NCF_BENCH_REPS, default 5) and interleaved, so that a slow spell of a
 # shared machine hits every kind alike; each kind is timed by its fastest repetition (the run least
 # disturbed), and the ratio of every single repetition is printed as well to show the scatter
-reps=${NCF_BENCH_REPS:-3}
+reps=${NCF_BENCH_REPS:-5}
 # the spheres are ~6 times cheaper per step: 5 times the steps, so that both are timed over about
 # the same wall time
 gsteps=$((5 * steps))
