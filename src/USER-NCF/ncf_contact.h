@@ -148,6 +148,17 @@ struct ContactBatch {
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);
 
+// Batched friction_step: the same operations on n lanes, without branches (every lane rounds as
+// friction_step does; tested bitwise). Inputs slip (updated in place), normal, vrel, kt, fn, mu;
+// outputs force (on A) and the spring energy.
+struct FrictionBatch {
+  int n = 0;
+  double slip[3][CONTACT_BATCH], normal[3][CONTACT_BATCH], vrel[3][CONTACT_BATCH];
+  double kt[CONTACT_BATCH], fn[CONTACT_BATCH], mu[CONTACT_BATCH];
+  double force[3][CONTACT_BATCH], energy[CONTACT_BATCH];
+};
+void friction_batch(FrictionBatch &b, double dt);
+
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact
 // law is zero there, since its weight vanishes beyond the extended segment and h vanishes beyond

@@ -165,6 +165,58 @@ void segment_contact_batch(ContactBatch &b, double core)
   }
 }
 
+// friction_step (ncf_contact.cpp) lane by lane; the branches of the scalar code become selects
+// whose unused side is computed but never used (a division by a zero t2 or fm2 goes to a dummy)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void friction_batch(FrictionBatch &b, double dt)
+{
+  for (int l = 0; l < b.n; l++) {
+    const double kt = b.kt[l], fn = b.fn[l], mu = b.mu[l];
+    const bool valid = (kt > 0.0) & (fn > 0.0) & (mu > 0.0);
+    const double nx = b.normal[0][l], ny = b.normal[1][l], nz = b.normal[2][l];
+    double sx = b.slip[0][l], sy = b.slip[1][l], sz = b.slip[2][l];
+    // keep the stored slip in the current tangent plane, with its magnitude
+    const double sn = sx * nx + sy * ny + sz * nz;
+    const double mag2 = sx * sx + sy * sy + sz * sz;
+    const double px = sx - sn * nx, py = sy - sn * ny, pz = sz - sn * nz;
+    const double t2 = px * px + py * py + pz * pz;
+    const double rescale = std::sqrt(mag2 / (t2 > 0.0 ? t2 : 1.0));
+    const double scale = sn != 0.0 ? (t2 > 0.0 ? rescale : 0.0) : 1.0;
+    sx = sn != 0.0 ? scale * px : sx;
+    sy = sn != 0.0 ? scale * py : sy;
+    sz = sn != 0.0 ? scale * pz : sz;
+    // tangential relative velocity, slip update, elastic force capped at mu fn
+    const double vx = b.vrel[0][l], vy = b.vrel[1][l], vz = b.vrel[2][l];
+    const double vn = vx * nx + vy * ny + vz * nz;
+    sx += dt * (vx - vn * nx);
+    sy += dt * (vy - vn * ny);
+    sz += dt * (vz - vn * nz);
+    const double mkt = -kt;
+    double fx = mkt * sx, fy = mkt * sy, fz = mkt * sz;
+    const double fm2 = fx * fx + fy * fy + fz * fz, cap = mu * fn;
+    const bool sliding = fm2 > cap * cap;
+    const double capf = cap / std::sqrt(sliding ? fm2 : 1.0);
+    const double ikt = -1.0 / (valid ? kt : 1.0);
+    fx = sliding ? capf * fx : fx;
+    fy = sliding ? capf * fy : fy;
+    fz = sliding ? capf * fz : fz;
+    sx = sliding ? ikt * fx : sx;
+    sy = sliding ? ikt * fy : sy;
+    sz = sliding ? ikt * fz : sz;
+    const double kts = valid ? kt : 1.0;
+    const double energy = sliding ? 0.5 * cap * cap / kts : 0.5 * fm2 / kts;
+    b.force[0][l] = valid ? fx : 0.0;
+    b.force[1][l] = valid ? fy : 0.0;
+    b.force[2][l] = valid ? fz : 0.0;
+    b.slip[0][l] = valid ? sx : 0.0;
+    b.slip[1][l] = valid ? sy : 0.0;
+    b.slip[2][l] = valid ? sz : 0.0;
+    b.energy[l] = valid ? energy : 0.0;
+  }
+}
+
 SegmentContact ContactBatch::result(int lane) const
 {
   SegmentContact c;

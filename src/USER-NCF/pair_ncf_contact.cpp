@@ -1177,71 +1177,94 @@ void PairNCFContact::compute(int eflag, int vflag)
     return NCF::segment_contact(Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)),
                                 Vec3(xof(pc.b1)), tp.dc, tp.kn, tp.ramp, eflag_global != 0, opt);
   };
-  auto finish = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer) -> bool {
-    if (!c.active) return false;
+  // After the law, in two parts around the friction step (so that the batched loop can do the
+  // friction of many contacts at once): pre sets up the normal dashpot and the slip history (a
+  // new contact takes over a neighbour's slip, or is deferred: returns -1); it returns 1 if the
+  // friction step is due, 0 if not. post adds the tangential force ftot at the contact point,
+  // scatters the forces and counts.
+  struct Tangential {
+    Vec3 ftot, vrel;
+    double fn = 0.0;
+    bool moving = false;    // velocities in play (friction or dashpot)
+  };
+  auto pre = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer,
+                 Tangential &tg) -> int {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     const TypePair &tp = tpar[pc.tp];
     pact[e] = 1;
-
-    Vec3 fa0 = c.f[0], fa1 = c.f[1], fb0 = c.f[2], fb1 = c.f[3];
-    double espring = 0.0;
-    if (use_velocity && c.fn > 0.0) {
-      const double xi = c.xi, t = c.t;
-      const Vec3 vrel = ((1.0 - xi) * Vec3(xof(ao) + 4) + xi * Vec3(xof(ia) + 4)) -
-          ((1.0 - t) * Vec3(xof(bo) + 4) + t * Vec3(xof(jb) + 4));
-      Vec3 ftot;
-      double fn = c.fn;
-      if (tp.damp > 0.0) {
-        // normal dashpot per unit contact length, never pulling the chains together
-        double fd = -tp.damp * c.length * NCF::dot(vrel, c.normal);
-        if (fd < -fn) fd = -fn;
-        fn += fd;
-        ftot += fd * c.normal;
-      }
-      const double m = tp.mu;
-      if (m > 0.0) {
-        double *slip = &phist[6 * (size_t) e + 3];
-        if (!had) {
-          // a new contact: the slip of a neighbouring pair of the previous step, or zero
-          slip[0] = slip[1] = slip[2] = 0.0;
-          if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
-            deferred.push_back(e);
-            return true;
-          }
-        }
-        Vec3 s(slip);
-        const double ktc = tp.kt * c.length;
-        const NCF::FrictionResult fr = NCF::friction_step(s, c.normal, vrel, dt, ktc, fn, m);
-        ftot += fr.force;
-        espring = fr.energy;
-        // kept (also a zero slip: the contact exists)
-        slip[0] = s.x;
-        slip[1] = s.y;
-        slip[2] = s.z;
-        phas[e] = 1;
-      }
-      fa0 += (1.0 - xi) * ftot;
-      fa1 += xi * ftot;
-      fb0 -= (1.0 - t) * ftot;
-      fb1 -= t * ftot;
+    if (!use_velocity || !(c.fn > 0.0)) return 0;
+    tg.moving = true;
+    const double xi = c.xi, t = c.t;
+    tg.vrel = ((1.0 - xi) * Vec3(xof(ao) + 4) + xi * Vec3(xof(ia) + 4)) -
+        ((1.0 - t) * Vec3(xof(bo) + 4) + t * Vec3(xof(jb) + 4));
+    tg.fn = c.fn;
+    if (tp.damp > 0.0) {
+      // normal dashpot per unit contact length, never pulling the chains together
+      double fd = -tp.damp * c.length * NCF::dot(tg.vrel, c.normal);
+      if (fd < -tg.fn) fd = -tg.fn;
+      tg.fn += fd;
+      tg.ftot += fd * c.normal;
     }
-    const Vec3 *fs[4] = {&fa0, &fa1, &fb0, &fb1};
-    const int nodes[4] = {ao, ia, bo, jb};
+    if (!(tp.mu > 0.0)) return 0;
+    if (!had) {
+      // a new contact: the slip of a neighbouring pair of the previous step, or zero
+      double *slip = &phist[6 * (size_t) e + 3];
+      slip[0] = slip[1] = slip[2] = 0.0;
+      if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
+        deferred.push_back(e);
+        return -1;
+      }
+    }
+    return 1;
+  };
+  auto post = [&](int e, const NCF::SegmentContact &c, const Tangential &tg, double espring) {
+    const PairCand &pc = plist[e];
+    Vec3 fs[4] = {c.f[0], c.f[1], c.f[2], c.f[3]};
+    if (tg.moving) {
+      fs[0] += (1.0 - c.xi) * tg.ftot;
+      fs[1] += c.xi * tg.ftot;
+      fs[2] -= (1.0 - c.t) * tg.ftot;
+      fs[3] -= c.t * tg.ftot;
+    }
+    const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
     for (int k = 0; k < 4; k++) {
-      f[nodes[k]][0] += fs[k]->x;
-      f[nodes[k]][1] += fs[k]->y;
-      f[nodes[k]][2] += fs[k]->z;
+      f[nodes[k]][0] += fs[k].x;
+      f[nodes[k]][1] += fs[k].y;
+      f[nodes[k]][2] += fs[k].z;
       if (fatom_flag) {
-        fcon[3 * nodes[k] + 0] += fs[k]->x;
-        fcon[3 * nodes[k] + 1] += fs[k]->y;
-        fcon[3 * nodes[k] + 2] += fs[k]->z;
+        fcon[3 * nodes[k] + 0] += fs[k].x;
+        fcon[3 * nodes[k] + 1] += fs[k].y;
+        fcon[3 * nodes[k] + 2] += fs[k].z;
       }
     }
     if (eflag_global) eng_vdwl += c.energy + espring;
     ncontact += 1.0;
     pensum += c.penetration;
     penmax = MAX(penmax, c.penetration);
+  };
+  // the whole of it for one contact, with the scalar friction step
+  auto finish = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer) -> bool {
+    if (!c.active) return false;
+    Tangential tg;
+    const int need = pre(e, c, had, may_defer, tg);
+    if (need < 0) return true;
+    double espring = 0.0;
+    if (need > 0) {
+      const TypePair &tp = tpar[plist[e].tp];
+      double *slip = &phist[6 * (size_t) e + 3];
+      Vec3 sv(slip);
+      const NCF::FrictionResult fr =
+          NCF::friction_step(sv, c.normal, tg.vrel, dt, tp.kt * c.length, tg.fn, tp.mu);
+      tg.ftot += fr.force;
+      espring = fr.energy;
+      // kept (also a zero slip: the contact exists)
+      slip[0] = sv.x;
+      slip[1] = sv.y;
+      slip[2] = sv.z;
+      phas[e] = 1;
+    }
+    post(e, c, tg, espring);
     return false;
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
@@ -1268,21 +1291,56 @@ void PairNCFContact::compute(int eflag, int vflag)
   int lane_e[NCF::CONTACT_BATCH];
   bool lane_had[NCF::CONTACT_BATCH];
   batch.n = 0;
+  NCF::SegmentContact lane_c[NCF::CONTACT_BATCH];
+  Tangential lane_tg[NCF::CONTACT_BATCH];
+  int fric_lane[NCF::CONTACT_BATCH];
   auto flush = [&]() {
     NCF::segment_contact_batch(batch, core);
+    fbatch.n = 0;
     for (int l = 0; l < batch.n; l++) {
       const int e = lane_e[l];
       if (batch.status[l] < 0.0) {
         finish(e, law(e), lane_had[l], use_history);
         continue;
       }
-      NCF::SegmentContact c = batch.result(l);
-      if (c.active && eflag_global) {
-        const PairCand &pc = plist[e];
+      if (!(batch.status[l] > 0.0)) continue;
+      NCF::SegmentContact &c = lane_c[l];
+      c = batch.result(l);
+      const PairCand &pc = plist[e];
+      if (eflag_global)
         c.penetration = NCF::segment_penetration(
             Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tpar[pc.tp].dc);
+      Tangential &tg = lane_tg[l];
+      tg = Tangential();
+      const int need = pre(e, c, lane_had[l], use_history, tg);
+      if (need < 0) continue;
+      if (need == 0) {
+        post(e, c, tg, 0.0);
+        continue;
       }
-      finish(e, c, lane_had[l], use_history);
+      // the friction step of this contact joins the batch of friction steps
+      const TypePair &tp = tpar[pc.tp];
+      const int j = fbatch.n++;
+      const double *slip = &phist[6 * (size_t) e + 3];
+      for (int d = 0; d < 3; d++) {
+        fbatch.slip[d][j] = slip[d];
+        fbatch.normal[d][j] = c.normal[d];
+        fbatch.vrel[d][j] = tg.vrel[d];
+      }
+      fbatch.kt[j] = tp.kt * c.length;
+      fbatch.fn[j] = tg.fn;
+      fbatch.mu[j] = tp.mu;
+      fric_lane[j] = l;
+    }
+    NCF::friction_batch(fbatch, dt);
+    for (int j = 0; j < fbatch.n; j++) {
+      const int l = fric_lane[j], e = lane_e[l];
+      double *slip = &phist[6 * (size_t) e + 3];
+      for (int d = 0; d < 3; d++) slip[d] = fbatch.slip[d][j];    // kept (also a zero slip)
+      phas[e] = 1;
+      Tangential &tg = lane_tg[l];
+      tg.ftot += Vec3(fbatch.force[0][j], fbatch.force[1][j], fbatch.force[2][j]);
+      post(e, lane_c[l], tg, fbatch.energy[j]);
     }
     batch.n = 0;
   };

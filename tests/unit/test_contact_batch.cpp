@@ -113,3 +113,49 @@ TEST(ContactBatch, EqualsTheScalarLawLaneByLane)
            core, fast, fast_active, left, left_active);
   }
 }
+
+// The batched friction step against friction_step: the same operations in the same order, so the
+// same bits. Random slips in and out of the tangent plane (and exactly in it), zero slips,
+// sticking and sliding, and the degenerate inputs (zero stiffness, normal force or coefficient).
+TEST(FrictionBatch, EqualsFrictionStepBitwise)
+{
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double dt = 1e-8;
+  int sliding = 0, sticking = 0;
+  NCF::FrictionBatch b;
+  for (int round = 0; round < 2000; round++) {
+    b.n = NCF::CONTACT_BATCH;
+    Vec3 slip[NCF::CONTACT_BATCH], normal[NCF::CONTACT_BATCH], vrel[NCF::CONTACT_BATCH];
+    for (int l = 0; l < b.n; l++) {
+      const int kind = (round * NCF::CONTACT_BATCH + l) % 7;
+      const Vec3 n0(U(rng), U(rng), U(rng));
+      normal[l] = (1.0 / NCF::norm(n0)) * n0;
+      slip[l] = 1e-6 * Vec3(U(rng), U(rng), U(rng));
+      if (kind == 1) slip[l] = slip[l] - NCF::dot(slip[l], normal[l]) * normal[l];    // in plane
+      if (kind == 2) slip[l] = Vec3();
+      vrel[l] = (kind == 3 ? 10.0 : 0.01) * Vec3(U(rng), U(rng), U(rng));
+      b.kt[l] = kind == 4 ? 0.0 : 1e3 * (1.0 + U(rng));
+      b.fn[l] = kind == 5 ? 0.0 : 1e-3 * (1.0 + U(rng));
+      b.mu[l] = kind == 6 ? 0.0 : 0.3;
+      for (int d = 0; d < 3; d++) {
+        b.slip[d][l] = slip[l][d];
+        b.normal[d][l] = normal[l][d];
+        b.vrel[d][l] = vrel[l][d];
+      }
+    }
+    NCF::friction_batch(b, dt);
+    for (int l = 0; l < b.n; l++) {
+      Vec3 s = slip[l];
+      const auto r = NCF::friction_step(s, normal[l], vrel[l], dt, b.kt[l], b.fn[l], b.mu[l]);
+      (r.sliding ? sliding : sticking)++;
+      for (int d = 0; d < 3; d++) {
+        ASSERT_EQ(b.force[d][l], r.force[d]) << "round " << round << " lane " << l;
+        ASSERT_EQ(b.slip[d][l], s[d]) << "round " << round << " lane " << l;
+      }
+      ASSERT_EQ(b.energy[l], r.energy) << "round " << round << " lane " << l;
+    }
+  }
+  EXPECT_GT(sliding, 5000);
+  EXPECT_GT(sticking, 5000);
+}
