@@ -114,11 +114,11 @@ inline double segment_penetration(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0
 
 // Batched evaluation of segment_contact for the common case, without branches, so that the
 // compiler can put several pairs into one vector instruction: both segments without extensions
-// and at least 2 ramp half-widths long, not within 1e-3 rad of parallel, and A's contact zone one
-// piece of the integral (inside one regime of B's weight: a ramp or the plateau, and not reaching
-// into the core). A pair outside this case comes back with status -1, to be evaluated by
-// segment_contact; otherwise the results equal segment_contact's to round-off (tested), with
-// penetration left 0. Fill n lanes, call segment_contact_batch, read the lanes.
+// and at least 2 ramp half-widths long, not within 1e-3 rad of parallel, axes not touching, and
+// A's contact zone clear of the core (it may span the ramps and the plateau of B's weight: up to
+// three pieces of the integral). A pair outside this case comes back with status -1, to be
+// evaluated by segment_contact; otherwise the results equal segment_contact's to round-off
+// (tested), with penetration left 0. Fill n lanes, call segment_contact_batch, read the lanes.
 constexpr int CONTACT_BATCH = 32;
 struct ContactBatch {
   int n = 0;

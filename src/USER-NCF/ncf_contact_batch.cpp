@@ -2,8 +2,8 @@
    USER-NCF: batched evaluation of the segment-segment contact law (see ncf_contact.h).
 
    The same law and the same formulas as contact_of_segments in ncf_contact.cpp, restricted to
-   the case where the integral along A is a single piece (one regime of B's weight, no core
-   boundary), written without branches: every lane computes everything and the case decisions
+   the case where the integral along A has at most one piece per regime of B's weight (ramp at
+   B0, plateau, ramp at B1) and no core boundary, written without branches: every lane computes everything and the case decisions
    become selects. The loop over the lanes is then one straight block that the compiler
    vectorises (compiled with -fno-math-errno -fno-trapping-math, so that the square roots and the
    divisions on either side of a select vectorise too). Lanes
@@ -53,7 +53,10 @@ void segment_contact_batch(ContactBatch &b, double core)
     const double qcp = qc - d2;
     // not within 1e-3 rad of parallel (qa = la^2 sin^2 of the angle)
     const bool crossing = qa > 1e-6 * la2s;
-    const double qas = crossing ? qa : 1.0;
+    // the zone follows from the quadratic (as in negative_interval) wherever the scalar law
+    // takes it so, which is beyond 1e-28 la^2
+    const bool quadratic = qa > 1e-28 * la2s;
+    const double qas = quadratic ? qa : 1.0;
 
     // the zone r < D on A's line (negative_interval, quadratic case)
     const double disc = qb * qb - 4.0 * qa * qcp;
@@ -66,45 +69,80 @@ void segment_contact_batch(ContactBatch &b, double core)
     const double xvert = 0.5 * (rlo + rhi);
     const double lo = rlo > 0.0 ? rlo : 0.0, hi = rhi < 1.0 ? rhi : 1.0;
 
-    // arc positions on B at the two ends of the zone, and the regime of the weight there
+    // arc position on B: s(xi) = s0 + s1 xi. The zone is cut into the parts where B's weight is
+    // its ramp at B0 (-e < s < e), its plateau (e <= s <= lb - e) and its ramp at B1
+    // (lb - e < s < lb + e): up to three pieces of the integral, each computed (an empty one has
+    // zero width). The cut points are those of contact_of_segments ((c - s0) / s1).
     const double inv_lb = std::sqrt(inv_lb2), lb = lb2s * inv_lb, la = std::sqrt(la2s);
     const double s0 = t0 * lb, s1 = t1 * lb;
-    const double slo = s0 + s1 * lo, shi = s0 + s1 * hi;
-    const double smin = slo < shi ? slo : shi, smax = slo < shi ? shi : slo;
-    const bool outside = (smax <= -e) | (smin >= lb + e);    // W = 0 over the whole zone
-    const bool plateau = (smin >= e) & (smax <= lb - e);
-    const bool ramp1 = (smin >= -e) & (smax <= e);
-    const bool ramp2 = (smin >= lb - e) & (smax <= lb + e);
+    const double stiny = 1e-14 * la;
+    const bool sloped = (s1 > stiny) | (s1 < -stiny);
+    const double inv_s1 = 1.0 / (sloped ? s1 : 1.0);
+    const double xm_e = (-e - s0) * inv_s1, xp_e = (e - s0) * inv_s1;
+    const double xm_l = (lb - e - s0) * inv_s1, xp_l = (lb + e - s0) * inv_s1;
+    // the zone within the support of the weight (-e < s < lb + e)
+    const double wlo = sloped ? (xm_e < xp_l ? xm_e : xp_l) : lo;
+    const double whi = sloped ? (xm_e < xp_l ? xp_l : xm_e) : hi;
+    const bool s0_in = (s0 > -e) & (s0 < lb + e);
+    const double zlo = lo > wlo ? lo : wlo, zhi = hi < whi ? hi : whi;
+    const bool outside = (sloped & !(zhi > zlo)) | (!sloped & !s0_in);    // W = 0 over the zone
     const bool long_b = lb >= 2.0 * e;
     // the core: the smallest r^2 over the zone must stay outside it
-    const double xc = xvert < lo ? lo : (xvert > hi ? hi : xvert);
+    const double xc = xvert < zlo ? zlo : (xvert > zhi ? zhi : xvert);
     const double r2min = (qa * xc + qb) * xc + qc;
     const bool clear_of_core = !(kap > 0.0) | (r2min >= cf2 * d2);
 
-    // the single piece in closed form (as in contact_of_segments)
+    // the pieces in closed form (as in contact_of_segments): on [plo, phi] the weight is
+    // wm + wy y (y = xi - mid); ramp 1 or 2 adds the moments of hh W' to QA or QB
     const double inv2e = 0.5 / e;
-    const double hw = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
-    const double sm = s0 + s1 * mid;
-    const double wm = plateau ? 1.0 : (ramp1 ? 0.5 + sm * inv2e : 0.5 + (lb - sm) * inv2e);
-    const double wy = plateau ? 0.0 : (ramp1 ? s1 * inv2e : -s1 * inv2e);
     const double inv2d = 0.5 / dc, invd = 2.0 * inv2d;
     const double kd = inv2d * invd, bd = 0.5 * inv2d * inv2d;
-    const double r2m = (qa * mid + qb) * mid + qc;
-    const double g0 = d2 - r2m, g1 = -(2.0 * qa * mid + qb), g2 = -qa;
-    const double A0 = kd * g0, A1 = kd * g1, A2 = kd * g2;
-    const double B0 = bd * g0 * g0, B1 = bd * 2.0 * g0 * g1, B2 = bd * (g1 * g1 + 2.0 * g0 * g2),
-                 B3 = bd * 2.0 * g1 * g2, B4 = bd * g2 * g2;
-    const double hw2 = hw * hw;
-    const double m0 = 2.0 * hw, m2 = m0 * hw2 * (1.0 / 3.0), m4 = m0 * hw2 * hw2 * 0.2;
-    const double H0 = B0 * m0 + B2 * m2 + B4 * m4, H1 = B1 * m2 + B3 * m4;
-    const double I0 = A0 * m0 + A2 * m2, I1 = A1 * m2, I2 = A0 * m2 + A2 * m4, I3 = A1 * m4;
-    const double c0 = wm * I0 + wy * I1, c1 = wm * I1 + wy * I2, c2 = wm * I2 + wy * I3;
-    const double L0 = wm * m0, P0 = wm * H0 + wy * H1;
-    const double C0 = c0, C1 = mid * c0 + c1, C2 = mid * (mid * c0 + 2.0 * c1) + c2;
-    const double Q0 = H0 * inv2e, Q1 = (mid * H0 + H1) * inv2e;
-    const bool on_a = !plateau & ramp1, on_b = !plateau & !ramp1 & ramp2;    // ramp of the piece
-    const double QA0 = on_a ? Q0 : 0.0, QA1 = on_a ? Q1 : 0.0;
-    const double QB0 = on_b ? Q0 : 0.0, QB1 = on_b ? Q1 : 0.0;
+    double C0 = 0.0, C1 = 0.0, C2 = 0.0, P0 = 0.0, L0 = 0.0;
+    double QA0 = 0.0, QA1 = 0.0, QB0 = 0.0, QB1 = 0.0;
+    auto piece = [&](double plo, double phi, int regime) {
+      const double hw = phi > plo ? 0.5 * (phi - plo) : 0.0, mid = 0.5 * (phi + plo);
+      const double sm = s0 + s1 * mid;
+      const double wm = regime == 3 ? 1.0
+                                    : (regime == 1 ? 0.5 + sm * inv2e : 0.5 + (lb - sm) * inv2e);
+      const double wy = regime == 3 ? 0.0 : (regime == 1 ? s1 * inv2e : -s1 * inv2e);
+      const double r2m = (qa * mid + qb) * mid + qc;
+      const double g0 = d2 - r2m, g1 = -(2.0 * qa * mid + qb), g2 = -qa;
+      const double A0 = kd * g0, A1 = kd * g1, A2 = kd * g2;
+      const double B0 = bd * g0 * g0, B1 = bd * 2.0 * g0 * g1, B2 = bd * (g1 * g1 + 2.0 * g0 * g2),
+                   B3 = bd * 2.0 * g1 * g2, B4 = bd * g2 * g2;
+      const double hw2 = hw * hw;
+      const double m0 = 2.0 * hw, m2 = m0 * hw2 * (1.0 / 3.0), m4 = m0 * hw2 * hw2 * 0.2;
+      const double H0 = B0 * m0 + B2 * m2 + B4 * m4, H1 = B1 * m2 + B3 * m4;
+      const double I0 = A0 * m0 + A2 * m2, I1 = A1 * m2, I2 = A0 * m2 + A2 * m4, I3 = A1 * m4;
+      const double c0 = wm * I0 + wy * I1, c1 = wm * I1 + wy * I2, c2 = wm * I2 + wy * I3;
+      L0 += wm * m0;
+      P0 += wm * H0 + wy * H1;
+      C0 += c0;
+      C1 += mid * c0 + c1;
+      C2 += mid * (mid * c0 + 2.0 * c1) + c2;
+      const double Q0 = H0 * inv2e, Q1 = (mid * H0 + H1) * inv2e;
+      QA0 += regime == 1 ? Q0 : 0.0;
+      QA1 += regime == 1 ? Q1 : 0.0;
+      QB0 += regime == 2 ? Q0 : 0.0;
+      QB1 += regime == 2 ? Q1 : 0.0;
+    };
+    // the part of [zlo, zhi] between the cut points xa and xb (in either order); without slope
+    // all of it in the regime of s0, none in the others
+    auto lower = [&](double xa, double xb) {
+      const double c = xa < xb ? xa : xb;
+      return sloped ? (zlo > c ? zlo : c) : zlo;
+    };
+    auto upper = [&](double xa, double xb, double whole) {
+      const double c = xa < xb ? xb : xa;
+      return sloped ? (zhi < c ? zhi : c) : (whole > 0.0 ? zhi : zlo);
+    };
+    const double in1 = (s0 > -e) & (s0 < e) ? 1.0 : 0.0;
+    const double in3 = (s0 >= e) & (s0 <= lb - e) ? 1.0 : 0.0;
+    const double in2 = (s0 > lb - e) & (s0 < lb + e) ? 1.0 : 0.0;
+    piece(lower(xm_e, xp_e), upper(xm_e, xp_e, in1), 1);
+    piece(lower(xp_e, xm_l), upper(xp_e, xm_l, in3), 3);
+    piece(lower(xm_l, xp_l), upper(xm_l, xp_l, in2), 2);
+    const double mid = 0.5 * (zlo + zhi);
     const double energy = kn * la * P0, length = la * L0;
     const bool active = (energy > 0.0) | (length > 0.0);
 
@@ -139,7 +177,7 @@ void segment_contact_batch(ContactBatch &b, double core)
     const double xi = C0 > 0.0 ? C1 / (C0 > 0.0 ? C0 : 1.0) : mid;
     const double tt = (s0 + s1 * xi) * inv_lb;
     const double ext = dc * inv_la;
-    const double xlo = lo - ext, xhi = hi + ext;
+    const double xlo = zlo - ext, xhi = zhi + ext;
     const double xs = xvert < xlo ? xlo : (xvert > xhi ? xhi : xvert);
     const double rsx = r0x + xs * r1x, rsy = r0y + xs * r1y, rsz = r0z + xs * r1z;
     const double rn2 = rsx * rsx + rsy * rsy + rsz * rsz;
@@ -157,11 +195,15 @@ void segment_contact_batch(ContactBatch &b, double core)
     b.normal[2][l] = nz;
     b.fn[l] = fdot > 0.0 ? fdot : 0.0;
 
-    // status: the cases decided here; everything else goes to segment_contact
-    const bool none = !hit | !(hi > lo) | outside;
+    // status: the cases decided here; everything else goes to segment_contact. No zone on A
+    // means no contact by the same test as the scalar law's, also for short, nearly parallel
+    // segments (most pairs of a list are not in contact, and many of those are such)
+    const bool no_zone = sizes & quadratic & (!hit | !(hi > lo));
     const bool in_case = sizes & crossing & long_b;
-    const bool piece = (plateau | ramp1 | ramp2) & clear_of_core & apart;
-    b.status[l] = !in_case ? -1.0 : (none ? 0.0 : (!piece ? -1.0 : (active ? 1.0 : 0.0)));
+    const bool piecewise = clear_of_core & apart;
+    b.status[l] = no_zone
+        ? 0.0
+        : (!in_case ? -1.0 : (outside ? 0.0 : (!piecewise ? -1.0 : (active ? 1.0 : 0.0))));
   }
 }
 
