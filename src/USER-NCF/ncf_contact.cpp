@@ -348,6 +348,13 @@ namespace {
   }
 }    // namespace
 
+void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                      const double *ext, SegmentContact &c)
+{
+  unextend(a0, a1, ext[0], ext[1], c.f[0], c.f[1], c.xi);
+  unextend(b0, b1, ext[2], ext[3], c.f[2], c.f[3], c.t);
+}
+
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
                                double dc, double kn, double ramp, bool with_penetration,
                                const ContactOptions &opt)
@@ -360,8 +367,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   extend_segment(qb0, qb1, e[2], e[3]);
   SegmentContact out = contact_of_segments(qa0, qa1, qb0, qb1, dc, kn, ramp, false, opt.core);
   if (!out.active) return out;
-  unextend(a0, a1, e[0], e[1], out.f[0], out.f[1], out.xi);
-  unextend(b0, b1, e[2], e[3], out.f[2], out.f[3], out.t);
+  unextend_contact(a0, a1, b0, b1, e, out);
   // the penetration of the chains themselves: two extended tips may overlap (their weights
   // fade out there) without any chain coming closer to another
   if (with_penetration) out.penetration = segment_penetration(a0, a1, b0, b1, dc);

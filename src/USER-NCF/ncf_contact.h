@@ -92,6 +92,12 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
                                double dc, double kn, double ramp, bool with_penetration = true,
                                const ContactOptions &opt = ContactOptions());
 
+// A contact computed for the segments extended by ext[0..3] (extend_segment) mapped back to the
+// real segments a0-a1, b0-b1: the node forces by the chain rule, the contact point parameters
+// xi and t (what segment_contact does with ContactOptions::ext; penetration untouched)
+void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                      const double *ext, SegmentContact &c);
+
 // the end points of segment p0-p1 extended by e0 beyond p0 and e1 beyond p1 along its axis
 inline void extend_segment(Vec3 &p0, Vec3 &p1, double e0, double e1)
 {

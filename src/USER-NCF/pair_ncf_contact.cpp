@@ -1285,11 +1285,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     pact[e] &= near;
     phas[e] &= near;    // (all 0 without friction)
   }
-  // Pairs without free-end extensions go through the batched law, which evaluates the common
-  // case (a single piece of the integral) several pairs per vector instruction and hands the
-  // others back to the scalar law (NCF::segment_contact_batch)
+  // The pairs go through the batched law, which evaluates the common case several pairs per
+  // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch)
   int lane_e[NCF::CONTACT_BATCH];
-  bool lane_had[NCF::CONTACT_BATCH];
+  bool lane_had[NCF::CONTACT_BATCH], lane_ext[NCF::CONTACT_BATCH];
   batch.n = 0;
   NCF::SegmentContact lane_c[NCF::CONTACT_BATCH];
   Tangential lane_tg[NCF::CONTACT_BATCH];
@@ -1307,6 +1306,11 @@ void PairNCFContact::compute(int eflag, int vflag)
       NCF::SegmentContact &c = lane_c[l];
       c = batch.result(l);
       const PairCand &pc = plist[e];
+      if (lane_ext[l]) {
+        const double ext[4] = {xof(pc.a0)[7], xof(pc.a1)[7], xof(pc.b0)[7], xof(pc.b1)[7]};
+        NCF::unextend_contact(Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)),
+                              Vec3(xof(pc.b1)), ext, c);
+      }
       if (eflag_global)
         c.penetration = NCF::segment_penetration(
             Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tpar[pc.tp].dc);
@@ -1346,18 +1350,20 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
-    const PairCand &pc = plist[e];
-    if (xof(pc.a0)[7] != 0.0 || xof(pc.a1)[7] != 0.0 || xof(pc.b0)[7] != 0.0 ||
-        xof(pc.b1)[7] != 0.0) {
-      pair_contact(e, use_history);
-      continue;
-    }
     bool had;
     if (!prepare(e, had, false)) continue;
+    // segments at free chain ends enter extended (end caps), mapped back after the law
+    const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
     const int l = batch.n++;
-    batch.set(l, Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tp.dc,
-              tp.kn, tp.ramp);
+    Vec3 q[4] = {Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1))};
+    const double ext[4] = {xof(pc.a0)[7], xof(pc.a1)[7], xof(pc.b0)[7], xof(pc.b1)[7]};
+    lane_ext[l] = ext[0] != 0.0 || ext[1] != 0.0 || ext[2] != 0.0 || ext[3] != 0.0;
+    if (lane_ext[l]) {
+      NCF::extend_segment(q[0], q[1], ext[0], ext[1]);
+      NCF::extend_segment(q[2], q[3], ext[2], ext[3]);
+    }
+    batch.set(l, q[0], q[1], q[2], q[3], tp.dc, tp.kn, tp.ramp);
     lane_e[l] = e;
     lane_had[l] = had;
     if (batch.n == NCF::CONTACT_BATCH) flush();

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -157,4 +158,58 @@ TEST(FrictionBatch, EqualsFrictionStepBitwise)
   }
   EXPECT_GT(sliding, 5000);
   EXPECT_GT(sticking, 5000);
+}
+
+// Segments at free chain ends: extending them (extend_segment), the batched law and
+// unextend_contact give what segment_contact gives with ContactOptions::ext (the pair style
+// evaluates end caps this way)
+TEST(ContactBatch, ExtendedSegmentsEqualTheScalarLaw)
+{
+  const std::vector<Pair> pairs = random_pairs(8000, 9);
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<int> coin(0, 1);
+  int compared = 0;
+  ContactBatch b;
+  b.n = 0;
+  std::vector<std::array<double, 4>> exts;
+  std::vector<int> ids;
+  auto check = [&]() {
+    NCF::segment_contact_batch(b, NCF::DEFAULT_CORE);
+    for (int l = 0; l < b.n; l++) {
+      if (b.status[l] < 0.0) continue;
+      const Pair &p = pairs[ids[l]];
+      NCF::ContactOptions opt;
+      opt.core = NCF::DEFAULT_CORE;
+      for (int m = 0; m < 4; m++) opt.ext[m] = exts[l][m];
+      const auto ref = NCF::segment_contact(p.a0, p.a1, p.b0, p.b1, D, KN, RAMP, false, opt);
+      NCF::SegmentContact c = b.result(l);
+      ASSERT_EQ(c.active, ref.active) << "pair " << ids[l];
+      if (!c.active) continue;
+      NCF::unextend_contact(p.a0, p.a1, p.b0, p.b1, exts[l].data(), c);
+      compared++;
+      const double fs = scale_of(ref), tol = 1e-9;
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++)
+          EXPECT_NEAR(c.f[m][d], ref.f[m][d], tol * fs) << "pair " << ids[l] << " node " << m;
+      EXPECT_NEAR(c.energy, ref.energy, tol * ref.energy) << "pair " << ids[l];
+      EXPECT_NEAR(c.xi, ref.xi, tol) << "pair " << ids[l];
+      EXPECT_NEAR(c.t, ref.t, tol) << "pair " << ids[l];
+    }
+    b.n = 0;
+    exts.clear();
+    ids.clear();
+  };
+  for (int k = 0; k < (int) pairs.size(); k++) {
+    std::array<double, 4> e;
+    for (double &v : e) v = coin(rng) ? NCF::DEFAULT_ENDCAP * D : 0.0;
+    Vec3 q[4] = {pairs[k].a0, pairs[k].a1, pairs[k].b0, pairs[k].b1};
+    NCF::extend_segment(q[0], q[1], e[0], e[1]);
+    NCF::extend_segment(q[2], q[3], e[2], e[3]);
+    b.set(b.n++, q[0], q[1], q[2], q[3], D, KN, RAMP);
+    exts.push_back(e);
+    ids.push_back(k);
+    if (b.n == NCF::CONTACT_BATCH) check();
+  }
+  if (b.n > 0) check();
+  EXPECT_GT(compared, 4000);
 }
