@@ -149,7 +149,22 @@ struct ContactBatch {
     ramp[lane] = e;
   }
   // the result of a lane with status 1 (or 0: inactive) as segment_contact returns it
-  SegmentContact result(int lane) const;
+  // (penetration 0)
+  SegmentContact result(int lane) const
+  {
+    SegmentContact c;
+    if (!(status[lane] > 0.0)) return c;
+    c.active = true;
+    c.energy = energy[lane];
+    for (int m = 0; m < 4; m++)
+      c.f[m] = Vec3(f[3 * m][lane], f[3 * m + 1][lane], f[3 * m + 2][lane]);
+    c.fn = fn[lane];
+    c.normal = Vec3(normal[0][lane], normal[1][lane], normal[2][lane]);
+    c.xi = xi[lane];
+    c.t = t[lane];
+    c.length = length[lane];
+    return c;
+  }
 };
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);

@@ -259,19 +259,4 @@ void friction_batch(FrictionBatch &b, double dt)
   }
 }
 
-SegmentContact ContactBatch::result(int lane) const
-{
-  SegmentContact c;
-  if (!(status[lane] > 0.0)) return c;
-  c.active = true;
-  c.energy = energy[lane];
-  for (int m = 0; m < 4; m++) c.f[m] = Vec3(f[3 * m][lane], f[3 * m + 1][lane], f[3 * m + 2][lane]);
-  c.fn = fn[lane];
-  c.normal = Vec3(normal[0][lane], normal[1][lane], normal[2][lane]);
-  c.xi = xi[lane];
-  c.t = t[lane];
-  c.length = length[lane];
-  return c;
-}
-
 }    // namespace NCF
