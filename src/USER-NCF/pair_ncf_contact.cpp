@@ -1136,13 +1136,31 @@ void PairNCFContact::compute(int eflag, int vflag)
                    tag[i], tag[ia], std::sqrt(l2), lmax_used);
     }
 
-  // contact of segment ao-ia (ao owned here) with segment bo-jb, key(A) < key(B). A new contact
-  // whose take-over needs the history of a pair owned by another rank (a ghost's row) is
-  // deferred (returns true) until that history has been communicated
+  // Contact of segment A = a0-a1 (a0 owned here) with segment B = b0-b1, key(A) < key(B), per
+  // list entry. A new contact whose take-over needs the history of a pair owned by another rank
+  // (a ghost's row) is deferred (put on `deferred`) until that history has been communicated
   deferred.clear();
-  // The contact of a list entry in three parts: prepare (bookkeeping, bounds and prefilter; false
-  // if the law need not be evaluated), the law, finish (friction, forces, counters; true if
-  // deferred). The main loop evaluates the law of the common pairs in batches (below).
+  // the four nodes of a list entry (A0, A1, B0, B1): positions and end-cap extensions
+  struct EntryNodes {
+    Vec3 x[4];
+    double ext[4];
+    bool extended() const
+    {
+      return ext[0] != 0.0 || ext[1] != 0.0 || ext[2] != 0.0 || ext[3] != 0.0;
+    }
+  };
+  auto nodes_of = [&](const PairCand &pc) {
+    EntryNodes en;
+    const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+    for (int m = 0; m < 4; m++) {
+      en.x[m] = Vec3(xof(ids[m]));
+      en.ext[m] = xof(ids[m])[7];
+    }
+    return en;
+  };
+  // The contact of a list entry in three parts: prepare (bookkeeping, bounds and, if asked, the
+  // prefilter; false if the law need not be evaluated), the law, finish (friction, forces,
+  // counters; true if deferred). The main loop evaluates the law in batches (below).
   auto prepare = [&](int e, bool &had, bool prefilter) -> bool {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
@@ -1162,20 +1180,20 @@ void PairNCFContact::compute(int eflag, int vflag)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
     if (!prefilter || was_active || pc.d + dmv < tp.dc) return true;
-    const double ext[4] = {xof(ao)[7], xof(ia)[7], xof(bo)[7], xof(jb)[7]};
-    return NCF::segment_contact_possible(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(bo)), Vec3(xof(jb)),
-                                         tp.dc, tp.ramp, ext);
+    const EntryNodes en = nodes_of(pc);
+    return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
+                                         en.ext);
   };
   // the law of entry e by the scalar kernel (any case)
   auto law = [&](int e) {
     const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
+    const EntryNodes en = nodes_of(pc);
     NCF::ContactOptions opt;
     opt.core = core;
-    const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
-    for (int m = 0; m < 4; m++) opt.ext[m] = xof(nodes[m])[7];
-    return NCF::segment_contact(Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)),
-                                Vec3(xof(pc.b1)), tp.dc, tp.kn, tp.ramp, eflag_global != 0, opt);
+    for (int m = 0; m < 4; m++) opt.ext[m] = en.ext[m];
+    return NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
+                                eflag_global != 0, opt);
   };
   // After the law, in two parts around the friction step (so that the batched loop can do the
   // friction of many contacts at once): pre sets up the normal dashpot and the slip history (a
@@ -1306,14 +1324,13 @@ void PairNCFContact::compute(int eflag, int vflag)
       NCF::SegmentContact &c = lane_c[l];
       c = batch.result(l);
       const PairCand &pc = plist[e];
-      if (lane_ext[l]) {
-        const double ext[4] = {xof(pc.a0)[7], xof(pc.a1)[7], xof(pc.b0)[7], xof(pc.b1)[7]};
-        NCF::unextend_contact(Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)),
-                              Vec3(xof(pc.b1)), ext, c);
+      if (lane_ext[l] || eflag_global) {
+        const EntryNodes en = nodes_of(pc);
+        if (lane_ext[l]) NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, c);
+        if (eflag_global)
+          c.penetration =
+              NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
       }
-      if (eflag_global)
-        c.penetration = NCF::segment_penetration(
-            Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1)), tpar[pc.tp].dc);
       Tangential &tg = lane_tg[l];
       tg = Tangential();
       const int need = pre(e, c, lane_had[l], use_history, tg);
@@ -1356,14 +1373,13 @@ void PairNCFContact::compute(int eflag, int vflag)
     const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
     const int l = batch.n++;
-    Vec3 q[4] = {Vec3(xof(pc.a0)), Vec3(xof(pc.a1)), Vec3(xof(pc.b0)), Vec3(xof(pc.b1))};
-    const double ext[4] = {xof(pc.a0)[7], xof(pc.a1)[7], xof(pc.b0)[7], xof(pc.b1)[7]};
-    lane_ext[l] = ext[0] != 0.0 || ext[1] != 0.0 || ext[2] != 0.0 || ext[3] != 0.0;
+    EntryNodes en = nodes_of(pc);
+    lane_ext[l] = en.extended();
     if (lane_ext[l]) {
-      NCF::extend_segment(q[0], q[1], ext[0], ext[1]);
-      NCF::extend_segment(q[2], q[3], ext[2], ext[3]);
+      NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
+      NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
     }
-    batch.set(l, q[0], q[1], q[2], q[3], tp.dc, tp.kn, tp.ramp);
+    batch.set(l, en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp);
     lane_e[l] = e;
     lane_had[l] = had;
     if (batch.n == NCF::CONTACT_BATCH) flush();
