@@ -64,6 +64,25 @@ inline SegKey make_key(tagint a, tagint b)
 {
   return a < b ? SegKey{a, b} : SegKey{b, a};
 }
+
+// How fast the gap between two segments extended beyond their nodes can close: if no node of A
+// moved more than m_A and no node of B more than m_B since the build, the extended segments are
+// at most g (m_A + m_B) closer than they were. An end extended by E along a segment of length L
+// (at the build) moves by at most m + E |change of the unit vector| <= m + E 2 (2 m) / L.
+// la, lb: lengths of A and B; ea, eb: their largest extension. Rounded up; a huge value for a
+// degenerate extended segment (always evaluated).
+inline double gap_growth(double la, double ea, double lb, double eb)
+{
+  constexpr double HUGE_GROWTH = 1e30;
+  double g = 1.0;
+  const double l[2] = {la, lb}, e[2] = {ea, eb};
+  for (int k = 0; k < 2; k++) {
+    if (!(e[k] > 0.0)) continue;
+    if (!(l[k] > 4.0 * e[k] / HUGE_GROWTH)) return HUGE_GROWTH;
+    g = std::max(g, 1.0 + 4.0 * e[k] / l[k]);
+  }
+  return std::min(g * (1.0 + 1e-6), HUGE_GROWTH);
+}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -818,6 +837,8 @@ void PairNCFContact::build_lists()
   // the distances are computed from)
   const double slack = 1e-9 * margin + 1e-12 * xabs;
   const double hm = 0.5 * margin + slack;
+  // (the gap of a pair list entry is rounded down by this much)
+  const double gap_slack = 1e-9 * reach_max + 1e-12 * xabs;
 
   // segment pair (A = ao-ia with ao owned, B = bo-jb), key(A) < key(B) checked by the caller:
   // kept if the two segments are within reach + skin
@@ -839,12 +860,21 @@ void PairNCFContact::build_lists()
     }
     const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
     if (share_node(A, B)) return;
-    // segments extended at free chain ends reach farther; d is kept net of the extensions
-    const double extsum = endext[ao] + endext[ia] + endext[bo] + endext[jb];
-    const NCF::ClosestPoints cp =
-        NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[jb]));
-    if (cp.dist2 >= (lim + extsum) * (lim + extsum)) return;
-    plist.push_back({ao, ia, bo, jb, std::sqrt(cp.dist2) - extsum, type_pair(type[ao], type[bo])});
+    // the law is zero while A, extended at free chain ends, stays D away from B, extended there
+    // and by the ramp half-width e beyond both nodes (NCF::segment_contact_possible): the entry
+    // keeps that gap at the build, and a bound of how fast it can close (growth)
+    const TypePair &tp = tpar[type_pair(type[ao], type[bo])];
+    Vec3 pa0(x[ao]), pa1(x[ia]), pb0(x[bo]), pb1(x[jb]);
+    const double la = NCF::norm(pa1 - pa0), lb = NCF::norm(pb1 - pb0);
+    NCF::extend_segment(pa0, pa1, endext[ao], endext[ia]);
+    NCF::extend_segment(pb0, pb1, endext[bo] + tp.ramp, endext[jb] + tp.ramp);
+    const double gap =
+        std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
+    const double grow = gap_growth(la, MAX(endext[ao], endext[ia]), lb,
+                                   MAX(endext[bo], endext[jb]) + tp.ramp);
+    // no node moves more than skin / 2 before the next build (checked in compute)
+    if (gap >= grow * skin) return;
+    plist.push_back({ao, ia, bo, jb, type_pair(type[ao], type[bo]), (float) grow, gap});
   };
 
   // the boxes: every segment (owner node, partner) known here, and every interior node
@@ -950,7 +980,8 @@ void PairNCFContact::build_lists()
                        "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
                        "present on this rank; communication cutoff too short",
                        tag[k], tag[ao], tag[ia]);
-          clist.push_back({ao, ia, kp, k, kq, type_pair(type[ao], type[k]), std::sqrt(dist2)});
+          const int tpk = type_pair(type[ao], type[k]);
+          clist.push_back({ao, ia, kp, k, kq, tpk, std::sqrt(dist2) - tpar[tpk].dc - gap_slack});
         }
       }
     }
@@ -1171,15 +1202,16 @@ void PairNCFContact::compute(int eflag, int vflag)
       had = phas[e] != 0;
       phas[e] = 0;
     }
-    const TypePair &tp = tpar[pc.tp];
-    const double dmv = MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb));
-    if (pc.d - dmv >= tp.reach) return false;
+    // the gap at the build closed by at most grow times the displacement bound of the nodes
+    const double close = pc.grow * (MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb)));
+    if (pc.gap - close >= 0.0) return false;
     // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
     // that were not in contact in the previous step (most that were still are) and that go to
     // the scalar law (the batched law rejects as fast)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
-    if (!prefilter || was_active || pc.d + dmv < tp.dc) return true;
+    if (!prefilter || was_active || pc.gap + close < 0.0) return true;
+    const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
                                          en.ext);
@@ -1297,7 +1329,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   work.resize(npairs);
   int nwork = 0;
   for (int e = 0; e < npairs; e++) {
-    const unsigned char near = plist[e].d - dglob < reach_max;
+    const unsigned char near = plist[e].gap - plist[e].grow * dglob < 0.0;
     work[nwork] = e;
     nwork += near;
     pact[e] &= near;
@@ -1405,14 +1437,14 @@ void PairNCFContact::compute(int eflag, int vflag)
   int nnear = 0;
   for (int e = 0; e < ncaps; e++) {
     work[nnear] = e;
-    nnear += clist[e].d - dglob < diam_max;
+    nnear += clist[e].gap - dglob < 0.0;
   }
   for (int w = 0; w < nnear; w++) {
     const CapCand &cc = clist[work[w]];
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const TypePair &tp = tpar[cc.tp];
     const double dc = tp.dc;
-    if (cc.d - (MAX(dm(ao), dm(ia)) + dm(k)) >= dc) continue;
+    if (cc.gap - (MAX(dm(ao), dm(ia)) + dm(k)) >= 0.0) continue;
     // the cap acts only where A comes within D of the node
     if (NCF::point_segment_dist2(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(k))) >= dc * dc) continue;
     const NCF::NodeContact c =

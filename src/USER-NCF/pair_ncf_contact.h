@@ -101,14 +101,17 @@ class PairNCFContact : public Pair {
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
     int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
-    double d;              // distance of the two segments at the build
     int tp;                // type pair (index into tpar)
+    float grow;            // bound of the closing speed of the gap (gap_growth)
+    double gap;            // at the build: distance of A and B (extended at free ends, B also by
+                           // the ramp half-width) minus D, rounded down; the law is zero while
+                           // it is positive
   };
   struct CapCand {
     int a0, a1;     // segment A (a0 owned)
     int p, n, q;    // interior node n and its chain neighbours
     int tp;         // type pair of A and the node (index into tpar)
-    double d;       // distance of segment A from node n at the build
+    double gap;     // distance of segment A from node n at the build minus D, rounded down
   };
   // the coefficients of a type pair as the compute loops use them, in one small table (set at
   // init), so that a list entry needs neither the types of its nodes nor the 2d arrays
