@@ -19,6 +19,8 @@
 
 #include "pair_ncf_contact.h"
 
+#include "fix_ncf_contact_history.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
@@ -113,9 +115,20 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lists_valid = false;
   lists_ncalls = -1;
   lists_nlocal = lists_nall = -1;
+  hlast = 0;
+  rows_current = true;
   nextra = 4;
   pvector = new double[nextra];
   for (int k = 0; k < nextra; k++) pvector[k] = 0.0;
+  // created now, so that it comes before the fixes of the input that migrate atoms (fix
+  // ncf/contact/history, init); without a box yet, at the first init
+  if (domain->box_exist) create_history_fix();
+}
+
+void PairNCFContact::create_history_fix()
+{
+  if (!modify->get_fix_by_id(FixNCFContactHistory::ID))
+    modify->add_fix(fmt::format("{} all ncf/contact/history", FixNCFContactHistory::ID));
 }
 
 PairNCFContact::~PairNCFContact()
@@ -294,6 +307,7 @@ void PairNCFContact::create_stores()
 
   idx_hist = -1;
   if (use_history) {
+    create_history_fix();
     if (!modify->get_fix_by_id(HIST_ID))
       modify->add_fix(
           fmt::format("{} all property/atom d2_ncf_chist {} ghost no writedata no", HIST_ID, ncol));
@@ -552,6 +566,22 @@ const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagin
   return nullptr;
 }
 
+// the slip of the previous step of the pair (segment owner-ohi, segment blo-bhi) owned by the
+// local node m, from the pair list entries of m, nullptr if none (what find_slip_row finds in the
+// row of m, which is only written when LAMMPS needs it: sync_history)
+const double *PairNCFContact::find_slip_entry(int m, tagint ohi, tagint blo, tagint bhi) const
+{
+  const tagint *tag = atom->tag;
+  const unsigned char *has = phas[hlast].data();
+  for (int e = pfirst[m]; e < pfirst[m + 1]; e++) {
+    if (!has[e]) continue;
+    const PairCand &pc = plist[e];
+    if (tag[pc.a1] == ohi && tag[pc.b0] == blo && tag[pc.b1] == bhi)
+      return &pslip[hlast][3 * (size_t) e];
+  }
+  return nullptr;
+}
+
 // a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
 // one segment further along one of them), so that a contact point sliding over a node keeps its
 // history; only values of the previous step are read (the same on any number of ranks)
@@ -578,8 +608,11 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
     const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
     const int m = atom->map(M.lo);
     if (m < 0) continue;
-    if (local_only && m >= atom->nlocal) return false;
-    const double *s = find_slip_row(m, M.hi, O.lo, O.hi);
+    if (m >= atom->nlocal && local_only) return false;
+    // (the rows of ghosts are communicated for the deferred take-overs, the local rows not
+    // written every step)
+    const double *s = m < atom->nlocal ? find_slip_entry(m, M.hi, O.lo, O.hi)
+                                       : find_slip_row(m, M.hi, O.lo, O.hi);
     if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
       slip[0] = s[0];
       slip[1] = s[1];
@@ -915,7 +948,9 @@ void PairNCFContact::build_lists()
   // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
   // lists come out in that order, so that the positions, forces and history rows of a step are
   // visited nearly in memory order (store_history relies on it)
-  for (int ao = 0; ao < nlocal; ao++)
+  pfirst.resize(nlocal + 1);
+  for (int ao = 0; ao < nlocal; ao++) {
+    pfirst[ao] = (int) plist.size();
     for (int sa = 0; sa < 2; sa++) {
       const int ia = segp[2 * ao + sa];
       if (ia < 0) continue;
@@ -985,92 +1020,85 @@ void PairNCFContact::build_lists()
         }
       }
     }
+  }
+  pfirst[nlocal] = (int) plist.size();
   pact.assign(plist.size(), 0);
-  phas.assign(plist.size(), 0);
   if (use_history) load_history();
 }
 
 /* ----------------------------------------------------------------------
-   friction history: between two list builds it lives with the pair list entries (phist,
-   phas); the per-atom store (NCF_CONTACT_HIST, rows of the owner nodes) is what LAMMPS migrates,
-   sorts and writes to restart files, so it is read here at every build and rewritten at every
-   step (store_history)
+   friction history: between two list builds it lives with the pair list entries, in two
+   buffers (pslip, phas): one holds the slips of the last step, read by this step (also by the
+   take-overs of new contacts, so that every rank sees the same values whatever the order of its
+   list), the other receives the slips of this step. The per-atom store (NCF_CONTACT_HIST, rows of
+   the owner nodes) is what LAMMPS migrates, sorts and writes to restart files: it is read at
+   every build and written only when LAMMPS needs it (sync_history, from fix
+   ncf/contact/history before atoms migrate and at the end of a run; and for the take-overs that
+   need the rows of ghosts)
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::load_history()
 {
-  const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   double **hist = atom->darray[idx_hist];
   const size_t np = plist.size();
-  phist.resize(6 * np);
-  phas.assign(np, 0);
-  hcount.resize(nlocal);
-  for (int i = 0; i < nlocal; i++) hcount[i] = (int) hist[i][0];
+  hlast = 0;
+  for (int b = 0; b < 2; b++) {
+    pslip[b].assign(3 * np, 0.0);
+    phas[b].assign(np, 0);
+  }
   for (size_t e = 0; e < np; e++) {
     const PairCand &pc = plist[e];
-    double *h = &phist[6 * e];
-    // the slot as stored in the per-atom row: key of A's partner and of B, then the slip
-    h[0] = (double) tag[pc.a1];
-    h[1] = (double) tag[pc.b0];
-    h[2] = (double) tag[pc.b1];
-    h[3] = h[4] = h[5] = 0.0;
-    if (hcount[pc.a0] == 0) continue;
+    if (hist[pc.a0][0] == 0.0) continue;
     const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);
     if (!old) continue;
-    h[3] = old[0];
-    h[4] = old[1];
-    h[5] = old[2];
-    phas[e] = 1;
+    memcpy(&pslip[0][3 * e], old, 3 * sizeof(double));
+    phas[0][e] = 1;
   }
+  rows_current = true;
 }
 
-void PairNCFContact::store_history()
+// the per-atom rows of the owned nodes from history buffer b (hlast: the last step's)
+void PairNCFContact::store_history(int b)
 {
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   double **hist = atom->darray[idx_hist];
-  // the entries in contact, gathered without branches (a third of them, unpredictably); the pair
-  // list is in the order of the owned nodes, so the contacts of a node are consecutive
-  const int npl = (int) plist.size();
-  work.resize(npl);
-  int np = 0;
-  for (int e = 0; e < npl; e++) {
-    work[np] = e;
-    np += phas[e] != 0;
-  }
-  int owner = -1, n = 0;
-  for (int k = 0; k <= np; k++) {
-    const int e = k < np ? work[k] : -1;
-    const int ao = k < np ? plist[e].a0 : -1;
-    if (ao != owner) {
-      if (owner >= 0) {
-        hcount[owner] = -1 - n;    // visited (decoded below)
-        hist[owner][0] = n;
-      }
-      owner = ao;
-      n = 0;
-      if (owner >= 0 && hcount[owner] < 0)
-        error->one(FLERR, "pair ncf/contact: internal error: pair list not in owner order");
-    }
-    if (k == np) break;
-    if (n >= maxcontacts)
-      error->one(FLERR,
-                 "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
-                 "maxcontacts",
-                 tag[ao], maxcontacts);
-    memcpy(hist[ao] + 1 + 6 * n, &phist[6 * (size_t) e], 6 * sizeof(double));
-    n++;
-  }
-  // nodes with no contact left; only the rows whose count changes are touched
+  if (nlocal != lists_nlocal)
+    error->one(FLERR,
+               "pair ncf/contact: the atoms changed before their friction history was stored "
+               "(define fixes that migrate atoms in pre_exchange after pair_style ncf/contact)");
+  const unsigned char *has = phas[b].data();
+  const double *slip = pslip[b].data();
   for (int i = 0; i < nlocal; i++) {
-    if (hcount[i] < 0)
-      hcount[i] = -1 - hcount[i];
-    else if (hcount[i] > 0) {
-      hcount[i] = 0;
-      hist[i][0] = 0.0;
+    double *row = hist[i];
+    int n = 0;
+    // the entries of a node are consecutive (build_lists)
+    for (int e = pfirst[i]; e < pfirst[i + 1]; e++) {
+      if (!has[e]) continue;
+      if (n >= maxcontacts)
+        error->one(FLERR,
+                   "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
+                   "maxcontacts",
+                   tag[i], maxcontacts);
+      const PairCand &pc = plist[e];
+      double *h = row + 1 + 6 * n;
+      // the slot: key of A's partner and of B, then the slip
+      h[0] = (double) tag[pc.a1];
+      h[1] = (double) tag[pc.b0];
+      h[2] = (double) tag[pc.b1];
+      memcpy(h + 3, slip + 3 * (size_t) e, 3 * sizeof(double));
+      n++;
     }
+    row[0] = n;
   }
+}
+
+void PairNCFContact::sync_history()
+{
+  if (!use_history || !lists_valid || rows_current) return;
+  store_history(hlast);
+  rows_current = true;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1167,6 +1195,20 @@ void PairNCFContact::compute(int eflag, int vflag)
                    tag[i], tag[ia], std::sqrt(l2), lmax_used);
     }
 
+  // friction history: the last step's read, this step's written (load_history)
+  const int hwr = 1 - hlast;
+  const double *slip_rd = nullptr;
+  const unsigned char *has_rd = nullptr;
+  double *slip_wr = nullptr;
+  unsigned char *has_wr = nullptr;
+  if (use_history) {
+    slip_rd = pslip[hlast].data();
+    has_rd = phas[hlast].data();
+    slip_wr = pslip[hwr].data();
+    has_wr = phas[hwr].data();
+    memset(has_wr, 0, plist.size());
+  }
+
   // Contact of segment A = a0-a1 (a0 owned here) with segment B = b0-b1, key(A) < key(B), per
   // list entry. A new contact whose take-over needs the history of a pair owned by another rank
   // (a ghost's row) is deferred (put on `deferred`) until that history has been communicated
@@ -1195,13 +1237,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   auto prepare = [&](int e, bool &had, bool prefilter) -> bool {
     const PairCand &pc = plist[e];
     const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
-    // whether the pair was in contact (had a stored slip) in the previous step; cleared until
-    // the pair stores a slip again in this step
-    had = false;
-    if (use_history) {
-      had = phas[e] != 0;
-      phas[e] = 0;
-    }
+    // whether the pair was in contact (had a stored slip) in the previous step
+    had = use_history && has_rd[e] != 0;
     // the gap at the build closed by at most grow times the displacement bound of the nodes
     const double close = pc.grow * (MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb)));
     if (pc.gap - close >= 0.0) return false;
@@ -1257,14 +1294,17 @@ void PairNCFContact::compute(int eflag, int vflag)
       tg.ftot += fd * c.normal;
     }
     if (!(tp.mu > 0.0)) return 0;
-    if (!had) {
-      // a new contact: the slip of a neighbouring pair of the previous step, or zero
-      double *slip = &phist[6 * (size_t) e + 3];
-      slip[0] = slip[1] = slip[2] = 0.0;
-      if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
-        deferred.push_back(e);
-        return -1;
-      }
+    // the slip this step starts from, in the buffer of this step: the pair's own of the previous
+    // step, or for a new contact that of a neighbouring pair (or zero)
+    double *slip = slip_wr + 3 * (size_t) e;
+    if (had) {
+      memcpy(slip, slip_rd + 3 * (size_t) e, 3 * sizeof(double));
+      return 1;
+    }
+    slip[0] = slip[1] = slip[2] = 0.0;
+    if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
+      deferred.push_back(e);
+      return -1;
     }
     return 1;
   };
@@ -1302,7 +1342,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     double espring = 0.0;
     if (need > 0) {
       const TypePair &tp = tpar[plist[e].tp];
-      double *slip = &phist[6 * (size_t) e + 3];
+      double *slip = slip_wr + 3 * (size_t) e;
       Vec3 sv(slip);
       const NCF::FrictionResult fr =
           NCF::friction_step(sv, c.normal, tg.vrel, dt, tp.kt * c.length, tg.fn, tp.mu);
@@ -1312,7 +1352,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       slip[0] = sv.x;
       slip[1] = sv.y;
       slip[2] = sv.z;
-      phas[e] = 1;
+      has_wr[e] = 1;
     }
     post(e, c, tg, espring);
     return false;
@@ -1333,7 +1373,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[nwork] = e;
     nwork += near;
     pact[e] &= near;
-    phas[e] &= near;    // (all 0 without friction)
   }
   // The pairs go through the batched law, which evaluates the common case several pairs per
   // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch)
@@ -1374,7 +1413,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       // the friction step of this contact joins the batch of friction steps
       const TypePair &tp = tpar[pc.tp];
       const int j = fbatch.n++;
-      const double *slip = &phist[6 * (size_t) e + 3];
+      const double *slip = slip_wr + 3 * (size_t) e;
       for (int d = 0; d < 3; d++) {
         fbatch.slip[d][j] = slip[d];
         fbatch.normal[d][j] = c.normal[d];
@@ -1388,9 +1427,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     NCF::friction_batch(fbatch, dt);
     for (int j = 0; j < fbatch.n; j++) {
       const int l = fric_lane[j], e = lane_e[l];
-      double *slip = &phist[6 * (size_t) e + 3];
+      double *slip = slip_wr + 3 * (size_t) e;
       for (int d = 0; d < 3; d++) slip[d] = fbatch.slip[d][j];    // kept (also a zero slip)
-      phas[e] = 1;
+      has_wr[e] = 1;
       Tangential &tg = lane_tg[l];
       tg.ftot += Vec3(fbatch.force[0][j], fbatch.force[1][j], fbatch.force[2][j]);
       post(e, lane_c[l], tg, fbatch.energy[j]);
@@ -1423,6 +1462,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     int need = deferred.empty() ? 0 : 1, any = need;
     if (comm->nprocs > 1) MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
     if (any) {
+      // the rows of the last step, sent to the ghosts
+      store_history(hlast);
       comm_mode = COMM_HIST;
       comm->forward_comm(this);
       for (const int e : deferred) pair_contact(e, false);
@@ -1467,9 +1508,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     penmax = MAX(penmax, c.penetration);
   }
 
-  // the new history replaces the old one in the per-atom store (read by the take-over of the
-  // next step, and carried by LAMMPS through migration, sorting and restart files)
-  if (use_history) store_history();
+  // this step's history is the last step's of the next (its rows are written when needed)
+  if (use_history) {
+    hlast = hwr;
+    rows_current = false;
+  }
 
   if (fatom_flag) {
     comm_mode = COMM_FORCE;

@@ -50,6 +50,9 @@ class PairNCFContact : public Pair {
   // longest segment the neighbour and ghost cutoffs were sized for (after init)
   double max_segment_length() const { return lmax_used; }
   bool friction_active() const { return use_history; }
+  // write the friction history of the last step into the per-atom store (fix
+  // ncf/contact/history calls it before atoms migrate and at the end of a run)
+  void sync_history();
   double critical_timestep() const { return dt_critical; }
 
  protected:
@@ -84,16 +87,18 @@ class PairNCFContact : public Pair {
   std::vector<int> segp;         // per local+ghost atom, 2 slots: partner index of owned segments
   std::vector<int> nbr;          // per local+ghost atom, 2 slots: chain neighbours (-1, -2 missing)
   // friction history per entry of the pair list between two list builds (loaded from the
-  // per-atom store at the build); the per-atom store is rewritten from it at every step
-  std::vector<double> phist;    // per pair list entry: its slot of the per-atom row (A's partner
-                                // tag, B's tags, slip vector) as of the last step
-  std::vector<unsigned char> pact;    // per pair list entry: 1 if the law was active last step
-  std::vector<unsigned char> phas;    // per pair list entry: 1 if in contact (stored) last step
+  // per-atom store at the build), in two buffers: the last step's (hlast) and this step's; the
+  // per-atom store is written from it when LAMMPS needs it (sync_history)
+  std::vector<double> pslip[2];           // per pair list entry: slip vector
+  std::vector<unsigned char> phas[2];     // per pair list entry: 1 if in contact (slip kept)
+  int hlast;                              // buffer of the last step
+  bool rows_current;                      // the per-atom rows hold buffer hlast
+  std::vector<int> pfirst;                // per owned node: first pair list entry it owns
+  std::vector<unsigned char> pact;        // per pair list entry: 1 if the law was active last step
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> work;              // pair list entries gathered for a loop (compute, store)
   NCF::ContactBatch batch;            // lanes of the batched contact law
   NCF::FrictionBatch fbatch;          // lanes of the batched friction step
-  std::vector<int> hcount;            // per owned atom: contacts in its per-atom history row
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;    // per local+ghost atom, one cache line: position, displacement
                              // bound, velocity, end-cap extension (this step)
@@ -167,12 +172,14 @@ class PairNCFContact : public Pair {
   void allocate();
   void build_lists();
   void load_history();
-  void store_history();
+  void store_history(int);
   void create_stores();
+  void create_history_fix();
   void fill_topology();
   void find_lmax();
   void set_segments();
   const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
+  const double *find_slip_entry(int m, tagint ohi, tagint blo, tagint bhi) const;
   bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
                     bool local_only) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
