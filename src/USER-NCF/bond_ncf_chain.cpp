@@ -37,7 +37,7 @@ static constexpr int NSLOT = 2;
 
 BondNCFChain::BondNCFChain(LAMMPS *_lmp) :
     Bond(_lmp), dtcheck(DT_ERROR), capture_pending(true), dt_critical(0.0), comm_mode(COMM_SLOTS),
-    idx_dtag(-1), idx_l0(-1)
+    idx_dtag(-1), idx_l0(-1), l0_ncalls(-1)
 {
   writedata = 1;
   reinitflag = 1;
@@ -206,6 +206,7 @@ void BondNCFChain::init_style()
 {
   create_store();
   capture_pending = true;
+  l0_ncalls = -1;
   update_maxl0();
 }
 
@@ -393,11 +394,22 @@ void BondNCFChain::compute(int eflag, int vflag)
   const int nlocal = atom->nlocal;
   const int newton_bond = force->newton_bond;
 
+  // the reference lengths in the order of the bond list, looked up again whenever LAMMPS has
+  // rebuilt the list (and after every init)
+  if (l0_ncalls != neighbor->ncalls || (int) l0_list.size() != nbondlist) {
+    l0_list.resize(nbondlist);
+    for (int n = 0; n < nbondlist; n++) {
+      const int i1 = bondlist[n][0], i2 = bondlist[n][1];
+      l0_list[n] = reference_length(i1, i2);
+      if (l0_list[n] <= 0.0)
+        error->one(FLERR, "bond ncf/chain: bond {}-{} has no reference length", tag[i1], tag[i2]);
+    }
+    l0_ncalls = neighbor->ncalls;
+  }
+
   for (int n = 0; n < nbondlist; n++) {
     const int i1 = bondlist[n][0], i2 = bondlist[n][1], type = bondlist[n][2];
-    const double l0 = reference_length(i1, i2);
-    if (l0 <= 0.0)
-      error->one(FLERR, "bond ncf/chain: bond {}-{} has no reference length", tag[i1], tag[i2]);
+    const double l0 = l0_list[n];
 
     const double delx = x[i1][0] - x[i2][0];
     const double dely = x[i1][1] - x[i2][1];
