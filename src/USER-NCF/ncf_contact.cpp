@@ -578,6 +578,34 @@ FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, d
   return out;
 }
 
+double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double kt, double mu,
+                          double damp, double dt)
+{
+  if (!c.active || !(c.fn > 0.0)) return 0.0;
+  const Vec3 vrel = ((1.0 - c.xi) * v[0] + c.xi * v[1]) - ((1.0 - c.t) * v[2] + c.t * v[3]);
+  double fn = c.fn;
+  Vec3 ftot;
+  if (damp > 0.0) {
+    // normal dashpot per unit contact length, never pulling the chains together
+    double fd = -damp * c.length * dot(vrel, c.normal);
+    if (fd < -fn) fd = -fn;
+    fn += fd;
+    ftot += fd * c.normal;
+  }
+  double energy = 0.0;
+  if (mu > 0.0) {
+    const FrictionResult fr = friction_step(slip, c.normal, vrel, dt, kt * c.length, fn, mu);
+    ftot += fr.force;
+    energy = fr.energy;
+  }
+  // applied at the contact points: A0 + xi (A1 - A0) on A, B0 + t (B1 - B0) on B
+  c.f[0] += (1.0 - c.xi) * ftot;
+  c.f[1] += c.xi * ftot;
+  c.f[2] -= (1.0 - c.t) * ftot;
+  c.f[3] -= c.t * ftot;
+  return energy;
+}
+
 double contact_critical_dt(double mass, double kn, double length)
 {
   if (!(mass > 0.0) || !(kn > 0.0) || !(length > 0.0)) return 0.0;

@@ -165,20 +165,26 @@ struct ContactBatch {
     c.length = length[lane];
     return c;
   }
+  // the results of a lane replaced by those of c (e.g. a result mapped back by unextend_contact)
+  void set_result(int lane, const SegmentContact &c)
+  {
+    energy[lane] = c.energy;
+    for (int m = 0; m < 4; m++) {
+      f[3 * m][lane] = c.f[m].x;
+      f[3 * m + 1][lane] = c.f[m].y;
+      f[3 * m + 2][lane] = c.f[m].z;
+    }
+    fn[lane] = c.fn;
+    normal[0][lane] = c.normal.x;
+    normal[1][lane] = c.normal.y;
+    normal[2][lane] = c.normal.z;
+    xi[lane] = c.xi;
+    t[lane] = c.t;
+    length[lane] = c.length;
+  }
 };
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);
-
-// Batched friction_step: the same operations on n lanes, without branches (every lane rounds as
-// friction_step does; tested bitwise). Inputs slip (updated in place), normal, vrel, kt, fn, mu;
-// outputs force (on A) and the spring energy.
-struct FrictionBatch {
-  int n = 0;
-  double slip[3][CONTACT_BATCH], normal[3][CONTACT_BATCH], vrel[3][CONTACT_BATCH];
-  double kt[CONTACT_BATCH], fn[CONTACT_BATCH], mu[CONTACT_BATCH];
-  double force[3][CONTACT_BATCH], energy[CONTACT_BATCH];
-};
-void friction_batch(FrictionBatch &b, double dt);
 
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact
@@ -232,6 +238,29 @@ struct FrictionResult {
 };
 FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
                              double fn, double mu);
+
+// The tangential part of a contact computed by segment_contact (active, fn > 0; otherwise
+// nothing happens): a normal dashpot (damp per unit contact length [N s/m^2]: force
+// -damp l_c (v_rel . n), never pulling the chains together, i.e. not below -fn), then with
+// mu > 0 the Coulomb slip spring (friction_step with stiffness kt l_c, kt per unit contact
+// length [Pa], capped by mu times the normal force including the dashpot). Both act at the
+// contact points (A0 + xi (A1 - A0) on A, B0 + t (B1 - B0) on B, the opposite force) and are
+// added to c.f. v: velocities of A0, A1, B0, B1; slip: the history (updated if mu > 0).
+// Returns the spring energy.
+double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double kt, double mu,
+                          double damp, double dt);
+
+// Batched contact_tangential on the lanes of a ContactBatch whose law has been evaluated: lanes
+// with status 1 get the same results as contact_tangential (bitwise, the same operations), the
+// others are left alone (their forces are then undefined). kt, mu, damp per lane as in
+// contact_tangential; for a lane without friction (mu 0) the slip is not used.
+struct TangentialBatch {
+  double v[12][CONTACT_BATCH];      // velocities of A0, A1, B0, B1 (x, y, z each)
+  double slip[3][CONTACT_BATCH];    // slip (updated)
+  double kt[CONTACT_BATCH], mu[CONTACT_BATCH], damp[CONTACT_BATCH];
+  double energy[CONTACT_BATCH];     // spring energy
+};
+void tangential_batch(ContactBatch &b, TangentialBatch &t, double dt);
 
 // Critical time step of a node of mass m pressed by a contact of stiffness kn over a length l:
 // dt_c = 2 sqrt(m / (kn l)) (explicit central differences). See doc/pair_ncf_contact.md.

@@ -264,18 +264,17 @@ void segment_contact_batch(ContactBatch &b, double core)
   }
 }
 
-// friction_step (ncf_contact.cpp) lane by lane; the branches of the scalar code become selects
-// whose unused side is computed but never used (a division by a zero t2 or fm2 goes to a dummy)
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void friction_batch(FrictionBatch &b, double dt)
-{
-  for (int l = 0; l < b.n; l++) {
-    const double kt = b.kt[l], fn = b.fn[l], mu = b.mu[l];
+namespace {
+  // friction_step (ncf_contact.cpp) for one lane; the branches of the scalar code become selects
+  // whose unused side is computed but never used (a division by a zero t2 or fm2 goes to a dummy)
+  struct FrictionLane {
+    double fx, fy, fz, energy;
+  };
+  inline __attribute__((always_inline)) FrictionLane friction_lane(
+      double &sx, double &sy, double &sz, double nx, double ny, double nz, double vx, double vy,
+      double vz, double dt, double kt, double fn, double mu)
+  {
     const bool valid = (kt > 0.0) & (fn > 0.0) & (mu > 0.0);
-    const double nx = b.normal[0][l], ny = b.normal[1][l], nz = b.normal[2][l];
-    double sx = b.slip[0][l], sy = b.slip[1][l], sz = b.slip[2][l];
     // keep the stored slip in the current tangent plane, with its magnitude
     const double sn = sx * nx + sy * ny + sz * nz;
     const double mag2 = sx * sx + sy * sy + sz * sz;
@@ -283,17 +282,16 @@ void friction_batch(FrictionBatch &b, double dt)
     const double t2 = px * px + py * py + pz * pz;
     const double rescale = std::sqrt(mag2 / (t2 > 0.0 ? t2 : 1.0));
     const double scale = sn != 0.0 ? (t2 > 0.0 ? rescale : 0.0) : 1.0;
-    sx = sn != 0.0 ? scale * px : sx;
-    sy = sn != 0.0 ? scale * py : sy;
-    sz = sn != 0.0 ? scale * pz : sz;
+    double qx = sn != 0.0 ? scale * px : sx;
+    double qy = sn != 0.0 ? scale * py : sy;
+    double qz = sn != 0.0 ? scale * pz : sz;
     // tangential relative velocity, slip update, elastic force capped at mu fn
-    const double vx = b.vrel[0][l], vy = b.vrel[1][l], vz = b.vrel[2][l];
     const double vn = vx * nx + vy * ny + vz * nz;
-    sx += dt * (vx - vn * nx);
-    sy += dt * (vy - vn * ny);
-    sz += dt * (vz - vn * nz);
+    qx += dt * (vx - vn * nx);
+    qy += dt * (vy - vn * ny);
+    qz += dt * (vz - vn * nz);
     const double mkt = -kt;
-    double fx = mkt * sx, fy = mkt * sy, fz = mkt * sz;
+    double fx = mkt * qx, fy = mkt * qy, fz = mkt * qz;
     const double fm2 = fx * fx + fy * fy + fz * fz, cap = mu * fn;
     const bool sliding = fm2 > cap * cap;
     const double capf = cap / std::sqrt(sliding ? fm2 : 1.0);
@@ -301,18 +299,69 @@ void friction_batch(FrictionBatch &b, double dt)
     fx = sliding ? capf * fx : fx;
     fy = sliding ? capf * fy : fy;
     fz = sliding ? capf * fz : fz;
-    sx = sliding ? ikt * fx : sx;
-    sy = sliding ? ikt * fy : sy;
-    sz = sliding ? ikt * fz : sz;
+    qx = sliding ? ikt * fx : qx;
+    qy = sliding ? ikt * fy : qy;
+    qz = sliding ? ikt * fz : qz;
     const double kts = valid ? kt : 1.0;
     const double energy = sliding ? 0.5 * cap * cap / kts : 0.5 * fm2 / kts;
-    b.force[0][l] = valid ? fx : 0.0;
-    b.force[1][l] = valid ? fy : 0.0;
-    b.force[2][l] = valid ? fz : 0.0;
-    b.slip[0][l] = valid ? sx : 0.0;
-    b.slip[1][l] = valid ? sy : 0.0;
-    b.slip[2][l] = valid ? sz : 0.0;
-    b.energy[l] = valid ? energy : 0.0;
+    sx = valid ? qx : 0.0;
+    sy = valid ? qy : 0.0;
+    sz = valid ? qz : 0.0;
+    return {valid ? fx : 0.0, valid ? fy : 0.0, valid ? fz : 0.0, valid ? energy : 0.0};
+  }
+}    // namespace
+
+// contact_tangential (ncf_contact.cpp) lane by lane, the same operations in the same order
+// (__restrict: without it the compiler would have to check too many pairs of arrays for overlap
+// at run time and gives up vectorising)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void tangential_batch(ContactBatch &__restrict b, TangentialBatch &__restrict t, double dt)
+{
+  for (int l = 0; l < b.n; l++) {
+    const double xi = b.xi[l], tt = b.t[l], len = b.length[l];
+    const double nx = b.normal[0][l], ny = b.normal[1][l], nz = b.normal[2][l];
+    // (one comparison: a bool combined from two keeps the loop from vectorising)
+    const double fn_go = b.status[l] > 0.0 ? b.fn[l] : 0.0;
+    const bool go = fn_go > 0.0;
+    const double wa0 = 1.0 - xi, wb0 = 1.0 - tt;
+    double vr[3];
+    for (int d = 0; d < 3; d++)
+      vr[d] = (wa0 * t.v[d][l] + xi * t.v[3 + d][l]) - (wb0 * t.v[6 + d][l] + tt * t.v[9 + d][l]);
+    // normal dashpot
+    double fn = b.fn[l];
+    const double damp = t.damp[l];
+    const bool damped = damp > 0.0;
+    double fd = -damp * len * (vr[0] * nx + vr[1] * ny + vr[2] * nz);
+    fd = fd < -fn ? -fn : fd;
+    fn = damped ? fn + fd : fn;
+    const double dx = damped ? 0.0 + fd * nx : 0.0, dy = damped ? 0.0 + fd * ny : 0.0,
+                 dz = damped ? 0.0 + fd * nz : 0.0;
+    // slip spring (no force and a zero slip without friction)
+    double sx = t.slip[0][l], sy = t.slip[1][l], sz = t.slip[2][l];
+    const FrictionLane r =
+        friction_lane(sx, sy, sz, nx, ny, nz, vr[0], vr[1], vr[2], dt, t.kt[l] * len, fn, t.mu[l]);
+    const bool fric = t.mu[l] > 0.0;
+    const double gx = fric ? dx + r.fx : dx, gy = fric ? dy + r.fy : dy, gz = fric ? dz + r.fz : dz;
+    const double fx = go ? gx : 0.0, fy = go ? gy : 0.0, fz = go ? gz : 0.0;
+    t.slip[0][l] = sx;
+    t.slip[1][l] = sy;
+    t.slip[2][l] = sz;
+    const double energy = fric ? r.energy : 0.0;
+    t.energy[l] = go ? energy : 0.0;
+    b.f[0][l] += wa0 * fx;
+    b.f[1][l] += wa0 * fy;
+    b.f[2][l] += wa0 * fz;
+    b.f[3][l] += xi * fx;
+    b.f[4][l] += xi * fy;
+    b.f[5][l] += xi * fz;
+    b.f[6][l] -= wb0 * fx;
+    b.f[7][l] -= wb0 * fy;
+    b.f[8][l] -= wb0 * fz;
+    b.f[9][l] -= tt * fx;
+    b.f[10][l] -= tt * fy;
+    b.f[11][l] -= tt * fz;
   }
 }
 

@@ -1264,97 +1264,74 @@ void PairNCFContact::compute(int eflag, int vflag)
     return NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
                                 eflag_global != 0, opt);
   };
-  // After the law, in two parts around the friction step (so that the batched loop can do the
-  // friction of many contacts at once): pre sets up the normal dashpot and the slip history (a
-  // new contact takes over a neighbour's slip, or is deferred: returns -1); it returns 1 if the
-  // friction step is due, 0 if not. post adds the tangential force ftot at the contact point,
-  // scatters the forces and counts.
-  struct Tangential {
-    Vec3 ftot, vrel;
-    double fn = 0.0;
-    bool moving = false;    // velocities in play (friction or dashpot)
-  };
-  auto pre = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer,
-                 Tangential &tg) -> int {
-    const PairCand &pc = plist[e];
-    const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
-    const TypePair &tp = tpar[pc.tp];
-    pact[e] = 1;
-    if (!use_velocity || !(c.fn > 0.0)) return 0;
-    tg.moving = true;
-    const double xi = c.xi, t = c.t;
-    tg.vrel = ((1.0 - xi) * Vec3(xof(ao) + 4) + xi * Vec3(xof(ia) + 4)) -
-        ((1.0 - t) * Vec3(xof(bo) + 4) + t * Vec3(xof(jb) + 4));
-    tg.fn = c.fn;
-    if (tp.damp > 0.0) {
-      // normal dashpot per unit contact length, never pulling the chains together
-      double fd = -tp.damp * c.length * NCF::dot(tg.vrel, c.normal);
-      if (fd < -tg.fn) fd = -tg.fn;
-      tg.fn += fd;
-      tg.ftot += fd * c.normal;
-    }
-    if (!(tp.mu > 0.0)) return 0;
-    // the slip this step starts from, in the buffer of this step: the pair's own of the previous
-    // step, or for a new contact that of a neighbouring pair (or zero)
+  // After the law: the slip a contact with friction starts from, in this step's buffer: the
+  // pair's own of the previous step or, for a new contact, that of a neighbouring pair (or
+  // zero); nullptr if that needs the rows of ghosts, not yet communicated (the entry is deferred)
+  auto start_slip = [&](int e, bool had, bool may_defer) -> double * {
     double *slip = slip_wr + 3 * (size_t) e;
     if (had) {
       memcpy(slip, slip_rd + 3 * (size_t) e, 3 * sizeof(double));
-      return 1;
+      return slip;
     }
     slip[0] = slip[1] = slip[2] = 0.0;
-    if (!inherit_slip(tag[ao], tag[ia], tag[bo], tag[jb], slip, may_defer)) {
-      deferred.push_back(e);
-      return -1;
-    }
-    return 1;
-  };
-  auto post = [&](int e, const NCF::SegmentContact &c, const Tangential &tg, double espring) {
     const PairCand &pc = plist[e];
-    Vec3 fs[4] = {c.f[0], c.f[1], c.f[2], c.f[3]};
-    if (tg.moving) {
-      fs[0] += (1.0 - c.xi) * tg.ftot;
-      fs[1] += c.xi * tg.ftot;
-      fs[2] -= (1.0 - c.t) * tg.ftot;
-      fs[3] -= c.t * tg.ftot;
+    if (!inherit_slip(tag[pc.a0], tag[pc.a1], tag[pc.b0], tag[pc.b1], slip, may_defer)) {
+      deferred.push_back(e);
+      return nullptr;
     }
+    return slip;
+  };
+  // the forces of a contact added to its four nodes, its energy and penetration counted
+  auto apply = [&](int e, const double (*fs)[3], double energy, double pen) {
+    const PairCand &pc = plist[e];
     const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
     for (int k = 0; k < 4; k++) {
-      f[nodes[k]][0] += fs[k].x;
-      f[nodes[k]][1] += fs[k].y;
-      f[nodes[k]][2] += fs[k].z;
+      f[nodes[k]][0] += fs[k][0];
+      f[nodes[k]][1] += fs[k][1];
+      f[nodes[k]][2] += fs[k][2];
       if (fatom_flag) {
-        fcon[3 * nodes[k] + 0] += fs[k].x;
-        fcon[3 * nodes[k] + 1] += fs[k].y;
-        fcon[3 * nodes[k] + 2] += fs[k].z;
+        fcon[3 * nodes[k] + 0] += fs[k][0];
+        fcon[3 * nodes[k] + 1] += fs[k][1];
+        fcon[3 * nodes[k] + 2] += fs[k][2];
       }
     }
-    if (eflag_global) eng_vdwl += c.energy + espring;
+    if (eflag_global) eng_vdwl += energy;
     ncontact += 1.0;
-    pensum += c.penetration;
-    penmax = MAX(penmax, c.penetration);
+    pensum += pen;
+    penmax = MAX(penmax, pen);
   };
-  // the whole of it for one contact, with the scalar friction step
-  auto finish = [&](int e, const NCF::SegmentContact &c, bool had, bool may_defer) -> bool {
+  // the rest of a contact evaluated by the scalar law: dashpot and friction
+  // (NCF::contact_tangential), forces; true if deferred
+  auto finish = [&](int e, NCF::SegmentContact c, bool had, bool may_defer) -> bool {
     if (!c.active) return false;
-    Tangential tg;
-    const int need = pre(e, c, had, may_defer, tg);
-    if (need < 0) return true;
+    const PairCand &pc = plist[e];
+    const TypePair &tp = tpar[pc.tp];
+    pact[e] = 1;
     double espring = 0.0;
-    if (need > 0) {
-      const TypePair &tp = tpar[plist[e].tp];
-      double *slip = slip_wr + 3 * (size_t) e;
-      Vec3 sv(slip);
-      const NCF::FrictionResult fr =
-          NCF::friction_step(sv, c.normal, tg.vrel, dt, tp.kt * c.length, tg.fn, tp.mu);
-      tg.ftot += fr.force;
-      espring = fr.energy;
-      // kept (also a zero slip: the contact exists)
-      slip[0] = sv.x;
-      slip[1] = sv.y;
-      slip[2] = sv.z;
-      has_wr[e] = 1;
+    if (use_velocity && c.fn > 0.0) {
+      double *slip = nullptr;
+      Vec3 sv;
+      if (tp.mu > 0.0) {
+        slip = start_slip(e, had, may_defer);
+        if (!slip) return true;
+        sv = Vec3(slip);
+      }
+      const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+      Vec3 vel[4];
+      for (int m = 0; m < 4; m++) vel[m] = Vec3(xof(ids[m]) + 4);
+      espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, dt);
+      if (slip) {
+        // kept (also a zero slip: the contact exists)
+        slip[0] = sv.x;
+        slip[1] = sv.y;
+        slip[2] = sv.z;
+        has_wr[e] = 1;
+      }
     }
-    post(e, c, tg, espring);
+    double fs[4][3];
+    for (int m = 0; m < 4; m++)
+      for (int d = 0; d < 3; d++) fs[m][d] = c.f[m][d];
+    apply(e, fs, c.energy + espring, c.penetration);
     return false;
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
@@ -1375,64 +1352,64 @@ void PairNCFContact::compute(int eflag, int vflag)
     pact[e] &= near;
   }
   // The pairs go through the batched law, which evaluates the common case several pairs per
-  // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch)
+  // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch),
+  // then the contacts through the batched dashpot and friction (NCF::tangential_batch)
   int lane_e[NCF::CONTACT_BATCH];
   bool lane_had[NCF::CONTACT_BATCH], lane_ext[NCF::CONTACT_BATCH];
+  bool lane_go[NCF::CONTACT_BATCH], lane_fric[NCF::CONTACT_BATCH];
+  double lane_pen[NCF::CONTACT_BATCH];
   batch.n = 0;
-  NCF::SegmentContact lane_c[NCF::CONTACT_BATCH];
-  Tangential lane_tg[NCF::CONTACT_BATCH];
-  int fric_lane[NCF::CONTACT_BATCH];
   auto flush = [&]() {
     NCF::segment_contact_batch(batch, core);
-    fbatch.n = 0;
+    // the lanes in contact: mapped back at free chain ends, the slip of those with friction set
+    // up (or the entry deferred); the others to the scalar law (-1) or no contact (0)
     for (int l = 0; l < batch.n; l++) {
       const int e = lane_e[l];
+      lane_go[l] = lane_fric[l] = false;
+      for (int d = 0; d < 3; d++) tbatch.slip[d][l] = 0.0;
       if (batch.status[l] < 0.0) {
         finish(e, law(e), lane_had[l], use_history);
         continue;
       }
       if (!(batch.status[l] > 0.0)) continue;
-      NCF::SegmentContact &c = lane_c[l];
-      c = batch.result(l);
       const PairCand &pc = plist[e];
+      lane_pen[l] = 0.0;
       if (lane_ext[l] || eflag_global) {
         const EntryNodes en = nodes_of(pc);
-        if (lane_ext[l]) NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, c);
+        if (lane_ext[l]) {
+          NCF::SegmentContact c = batch.result(l);
+          NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, c);
+          batch.set_result(l, c);
+        }
         if (eflag_global)
-          c.penetration =
+          lane_pen[l] =
               NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
       }
-      Tangential &tg = lane_tg[l];
-      tg = Tangential();
-      const int need = pre(e, c, lane_had[l], use_history, tg);
-      if (need < 0) continue;
-      if (need == 0) {
-        post(e, c, tg, 0.0);
-        continue;
+      pact[e] = 1;
+      if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
+        const double *slip = start_slip(e, lane_had[l], use_history);
+        if (!slip) continue;
+        for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
+        lane_fric[l] = true;
       }
-      // the friction step of this contact joins the batch of friction steps
-      const TypePair &tp = tpar[pc.tp];
-      const int j = fbatch.n++;
-      const double *slip = slip_wr + 3 * (size_t) e;
-      for (int d = 0; d < 3; d++) {
-        fbatch.slip[d][j] = slip[d];
-        fbatch.normal[d][j] = c.normal[d];
-        fbatch.vrel[d][j] = tg.vrel[d];
-      }
-      fbatch.kt[j] = tp.kt * c.length;
-      fbatch.fn[j] = tg.fn;
-      fbatch.mu[j] = tp.mu;
-      fric_lane[j] = l;
+      lane_go[l] = true;
     }
-    NCF::friction_batch(fbatch, dt);
-    for (int j = 0; j < fbatch.n; j++) {
-      const int l = fric_lane[j], e = lane_e[l];
-      double *slip = slip_wr + 3 * (size_t) e;
-      for (int d = 0; d < 3; d++) slip[d] = fbatch.slip[d][j];    // kept (also a zero slip)
-      has_wr[e] = 1;
-      Tangential &tg = lane_tg[l];
-      tg.ftot += Vec3(fbatch.force[0][j], fbatch.force[1][j], fbatch.force[2][j]);
-      post(e, lane_c[l], tg, fbatch.energy[j]);
+    if (use_velocity) NCF::tangential_batch(batch, tbatch, dt);
+    for (int l = 0; l < batch.n; l++) {
+      if (!lane_go[l]) continue;
+      const int e = lane_e[l];
+      double espring = 0.0;
+      if (lane_fric[l]) {
+        // kept (also a zero slip: the contact exists)
+        double *slip = slip_wr + 3 * (size_t) e;
+        for (int d = 0; d < 3; d++) slip[d] = tbatch.slip[d][l];
+        has_wr[e] = 1;
+        espring = tbatch.energy[l];
+      }
+      double fs[4][3];
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) fs[m][d] = batch.f[3 * m + d][l];
+      apply(e, fs, batch.energy[l] + espring, lane_pen[l]);
     }
     batch.n = 0;
   };
@@ -1451,6 +1428,14 @@ void PairNCFContact::compute(int eflag, int vflag)
       NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
     }
     batch.set(l, en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp);
+    if (use_velocity) {
+      const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) tbatch.v[3 * m + d][l] = xof(ids[m])[4 + d];
+      tbatch.kt[l] = tp.kt;
+      tbatch.mu[l] = tp.mu;
+      tbatch.damp[l] = tp.damp;
+    }
     lane_e[l] = e;
     lane_had[l] = had;
     if (batch.n == NCF::CONTACT_BATCH) flush();

@@ -98,7 +98,7 @@ class PairNCFContact : public Pair {
   std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
   std::vector<int> work;              // pair list entries gathered for a loop (compute, store)
   NCF::ContactBatch batch;            // lanes of the batched contact law
-  NCF::FrictionBatch fbatch;          // lanes of the batched friction step
+  NCF::TangentialBatch tbatch;        // lanes of the batched dashpot and friction
   std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;    // per local+ghost atom, one cache line: position, displacement
                              // bound, velocity, end-cap extension (this step)

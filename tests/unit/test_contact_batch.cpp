@@ -114,50 +114,78 @@ TEST(ContactBatch, EqualsTheScalarLawLaneByLane)
   }
 }
 
-// The batched friction step against friction_step: the same operations in the same order, so the
-// same bits. Random slips in and out of the tangent plane (and exactly in it), zero slips,
-// sticking and sliding, and the degenerate inputs (zero stiffness, normal force or coefficient).
-TEST(FrictionBatch, EqualsFrictionStepBitwise)
+// The batched dashpot and friction (tangential_batch) against contact_tangential: the same
+// operations in the same order, so the same bits, on contacts of the batched law. Random
+// velocities (slow: sticking; fast: sliding), slips in and out of the tangent plane and zero,
+// lanes without friction, without damping, with a dashpot strong enough to be clamped at -fn,
+// zero stiffness, and lanes not in contact (left alone).
+TEST(TangentialBatch, EqualsContactTangentialBitwise)
 {
+  const std::vector<Pair> pairs = random_pairs(64000, 11);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   const double dt = 1e-8;
-  int sliding = 0, sticking = 0;
-  NCF::FrictionBatch b;
-  for (int round = 0; round < 2000; round++) {
-    b.n = NCF::CONTACT_BATCH;
-    Vec3 slip[NCF::CONTACT_BATCH], normal[NCF::CONTACT_BATCH], vrel[NCF::CONTACT_BATCH];
+  int sliding = 0, sticking = 0, clamped = 0, compared = 0;
+  ContactBatch b;
+  NCF::TangentialBatch t;
+  for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
+    b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
     for (int l = 0; l < b.n; l++) {
-      const int kind = (round * NCF::CONTACT_BATCH + l) % 7;
-      const Vec3 n0(U(rng), U(rng), U(rng));
-      normal[l] = (1.0 / NCF::norm(n0)) * n0;
-      slip[l] = 1e-6 * Vec3(U(rng), U(rng), U(rng));
-      if (kind == 1) slip[l] = slip[l] - NCF::dot(slip[l], normal[l]) * normal[l];    // in plane
-      if (kind == 2) slip[l] = Vec3();
-      vrel[l] = (kind == 3 ? 10.0 : 0.01) * Vec3(U(rng), U(rng), U(rng));
-      b.kt[l] = kind == 4 ? 0.0 : 1e3 * (1.0 + U(rng));
-      b.fn[l] = kind == 5 ? 0.0 : 1e-3 * (1.0 + U(rng));
-      b.mu[l] = kind == 6 ? 0.0 : 0.3;
-      for (int d = 0; d < 3; d++) {
-        b.slip[d][l] = slip[l][d];
-        b.normal[d][l] = normal[l][d];
-        b.vrel[d][l] = vrel[l][d];
-      }
+      const Pair &p = pairs[start + l];
+      b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
     }
-    NCF::friction_batch(b, dt);
+    NCF::segment_contact_batch(b, NCF::DEFAULT_CORE);
+    Vec3 slip[NCF::CONTACT_BATCH], vel[NCF::CONTACT_BATCH][4];
     for (int l = 0; l < b.n; l++) {
-      Vec3 s = slip[l];
-      const auto r = NCF::friction_step(s, normal[l], vrel[l], dt, b.kt[l], b.fn[l], b.mu[l]);
-      (r.sliding ? sliding : sticking)++;
-      for (int d = 0; d < 3; d++) {
-        ASSERT_EQ(b.force[d][l], r.force[d]) << "round " << round << " lane " << l;
-        ASSERT_EQ(b.slip[d][l], s[d]) << "round " << round << " lane " << l;
+      const int kind = (int) ((start + l) % 9);
+      for (int m = 0; m < 4; m++) {
+        vel[l][m] = (kind == 3 ? 10.0 : 0.01) * Vec3(U(rng), U(rng), U(rng));
+        for (int d = 0; d < 3; d++) t.v[3 * m + d][l] = vel[l][m][d];
       }
-      ASSERT_EQ(b.energy[l], r.energy) << "round " << round << " lane " << l;
+      const Vec3 n(b.normal[0][l], b.normal[1][l], b.normal[2][l]);
+      slip[l] = 1e-6 * Vec3(U(rng), U(rng), U(rng));
+      if (kind == 1) slip[l] = slip[l] - NCF::dot(slip[l], n) * n;    // in the tangent plane
+      if (kind == 2) slip[l] = Vec3();
+      t.kt[l] = kind == 4 ? 0.0 : 1e9 * (1.0 + U(rng));
+      t.mu[l] = kind == 5 ? 0.0 : 0.3;
+      t.damp[l] = kind == 6 ? 0.0 : (kind == 7 ? 1e6 : 1e2) * (1.0 + U(rng));
+      for (int d = 0; d < 3; d++) t.slip[d][l] = slip[l][d];
+    }
+    ContactBatch before = b;
+    NCF::tangential_batch(b, t, dt);
+    for (int l = 0; l < b.n; l++) {
+      const int k = (int) (start + l);
+      if (!(before.status[l] > 0.0)) continue;
+      NCF::SegmentContact c = before.result(l);
+      Vec3 s = slip[l];
+      const double energy = NCF::contact_tangential(c, vel[l], s, t.kt[l], t.mu[l], t.damp[l], dt);
+      const NCF::SegmentContact got = b.result(l);
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) ASSERT_EQ(got.f[m][d], c.f[m][d]) << "pair " << k;
+      ASSERT_EQ(t.energy[l], energy) << "pair " << k;
+      if (t.mu[l] > 0.0 && c.fn > 0.0)
+        for (int d = 0; d < 3; d++) ASSERT_EQ(t.slip[d][l], s[d]) << "pair " << k;
+      compared++;
+      if (!(t.mu[l] > 0.0 && t.kt[l] > 0.0)) continue;
+      // which regime the lane was in (the dashpot clamped at -fn leaves no friction)
+      const Vec3 vrel = ((1.0 - c.xi) * vel[l][0] + c.xi * vel[l][1]) -
+          ((1.0 - c.t) * vel[l][2] + c.t * vel[l][3]);
+      const double fd = -t.damp[l] * before.length[l] * NCF::dot(vrel, before.result(l).normal);
+      const double fn = before.fn[l] + std::max(fd, -before.fn[l]);
+      if (!(fn > 0.0))
+        clamped++;
+      else if (NCF::norm(s) * t.kt[l] * before.length[l] < 0.3 * fn * (1.0 - 1e-9))
+        sticking++;
+      else
+        sliding++;
     }
   }
-  EXPECT_GT(sliding, 5000);
-  EXPECT_GT(sticking, 5000);
+  EXPECT_GT(compared, 40000);
+  EXPECT_GT(sliding, 1000);
+  EXPECT_GT(sticking, 1000);
+  EXPECT_GT(clamped, 100);
+  printf("%d contacts compared: %d sticking, %d sliding, %d with the dashpot clamped\n", compared,
+         sticking, sliding, clamped);
 }
 
 // Segments at free chain ends: extending them (extend_segment), the batched law and
