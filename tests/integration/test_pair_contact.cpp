@@ -512,6 +512,35 @@ TEST(PairContact, PerAtomContactForceForDumps)
   EXPECT_GT(expect, 0.0);
 }
 
+// fix ncf/contact/history (created by the pair style) writes the friction history into the
+// per-atom store before atoms migrate; a fix that migrates atoms in its own pre_exchange must come
+// after it. pair_style given after the box: created then, before fix balance, fine. pair_style
+// given before the box: created at the first run, after fix balance: a clear error.
+TEST(PairContact, HistoryFixBeforeFixesThatMigrateAtoms)
+{
+  auto dir = scratch_dir("contact_history_fix");
+  const std::string data = write_data(dir + "/h.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  const std::string coeff = "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6";
+  EXPECT_EQ(error_of([&] {
+              Lammps l;
+              l.cmds(setup(data, "f f f", coeff));
+              l.cmd("fix bal all balance 10 1.1 shift x 5 1.1");
+              l.cmd("run 20");
+            }),
+            "");
+  const std::string err = error_of([&] {
+    Lammps l;
+    l.cmds("units si\natom_style bond\natom_modify map array sort 0 0\nboundary f f f\n"
+           "bond_style ncf/chain\npair_style ncf/contact\nread_data " +
+           data + "\nbond_coeff 1 modulus 120e9 diameter 69e-6\n" + coeff +
+           "\ncomm_modify vel yes\ntimestep 1e-9\nneighbor 2e-5 bin\n"
+           "fix bal all balance 10 1.1 shift x 5 1.1");
+    l.cmd("run 0");
+  });
+  EXPECT_THAT(err, HasSubstr("fix bal (balance) migrates atoms"));
+  EXPECT_THAT(err, HasSubstr("define pair_style ncf/contact"));
+}
+
 TEST(PairContact, ErrorsNameStyleKeywordAndValue)
 {
   auto dir = scratch_dir("contact_errors");
