@@ -1142,6 +1142,9 @@ void PairNCFContact::compute(int eflag, int vflag)
   constexpr int NR = 8;
   xd.resize(NR * (size_t) nall + NR);
   double *const X = xd.data() + ((64 - ((uintptr_t) xd.data() & 63)) & 63) / sizeof(double);
+  // and the displacement bounds again in one dense array, for the bound tests of the list entries
+  dmn.resize(nall);
+  double *const DM = dmn.data();
   double dmove2 = 0.0;
   for (int k = 0; k < nall; k++) {
     const double *xb = &xbuild[3 * (size_t) k];
@@ -1153,7 +1156,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     xk[1] = x[k][1];
     xk[2] = x[k][2];
     // (relative margin for the round-off of the distances)
-    xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
+    xk[3] = DM[k] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
     if (use_velocity) {
       xk[4] = v[k][0];
       xk[5] = v[k][1];
@@ -1176,8 +1179,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   auto xof = [X](int k) {
     return X + NR * (size_t) k;
   };
-  auto dm = [X](int k) {
-    return X[NR * (size_t) k + 3];
+  auto dm = [DM](int k) {
+    return DM[k];
   };
 
   // every owned segment within the length the cutoffs were sized for
@@ -1351,6 +1354,18 @@ void PairNCFContact::compute(int eflag, int vflag)
     nwork += near;
     pact[e] &= near;
   }
+  // then those within reach after the displacement bounds of their own nodes, again without
+  // branches (so that the loads of the bounds of many entries overlap); the lanes get the rest
+  int nlane = 0;
+  for (int k = 0; k < nwork; k++) {
+    const int e = work[k];
+    const PairCand &pc = plist[e];
+    const double close = pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
+    const unsigned char keep = pc.gap - close < 0.0;
+    work[nlane] = e;
+    nlane += keep;
+    pact[e] &= keep;
+  }
   // The pairs go through the batched law, which evaluates the common case several pairs per
   // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch),
   // then the contacts through the batched dashpot and friction (NCF::tangential_batch)
@@ -1413,10 +1428,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     batch.n = 0;
   };
-  for (int k = 0; k < nwork; k++) {
+  for (int k = 0; k < nlane; k++) {
     const int e = work[k];
-    bool had;
-    if (!prepare(e, had, false)) continue;
+    const bool had = use_history && has_rd[e] != 0;
+    pact[e] = 0;
     // segments at free chain ends enter extended (end caps), mapped back after the law
     const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
@@ -1465,12 +1480,17 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[nnear] = e;
     nnear += clist[e].gap - dglob < 0.0;
   }
+  int ncapev = 0;
   for (int w = 0; w < nnear; w++) {
+    const CapCand &cc = clist[work[w]];
+    work[ncapev] = work[w];
+    ncapev += cc.gap - (MAX(DM[cc.a0], DM[cc.a1]) + DM[cc.n]) < 0.0;
+  }
+  for (int w = 0; w < ncapev; w++) {
     const CapCand &cc = clist[work[w]];
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const TypePair &tp = tpar[cc.tp];
     const double dc = tp.dc;
-    if (cc.gap - (MAX(dm(ao), dm(ia)) + dm(k)) >= 0.0) continue;
     // the cap acts only where A comes within D of the node
     if (NCF::point_segment_dist2(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(k))) >= dc * dc) continue;
     const NCF::NodeContact c =
