@@ -460,7 +460,7 @@ void PairNCFContact::init_style()
 
   // the ghost shell must hold both nodes of every segment B within reach + skin of an owned
   // segment A: A reaches lmax beyond the sub-domain, B another lmax beyond A's reach + skin
-  // (2 lmax + reach + skin, which is also LAMMPS's own cutforce + skin); for the friction history
+  // (2 lmax + reach + skin); for the friction history
   // also the owners of the segments next to B along its chain (+ lmax)
   diam_max = 0.0;
   for (int i = 1; i <= atom->ntypes; i++) diam_max = MAX(diam_max, diameter[i]);
@@ -491,7 +491,12 @@ double PairNCFContact::init_one(int i, int j)
   mu[j][i] = mu[i][j];
   damp[j][i] = damp[i][j];
   const double dc = 0.5 * (diameter[i] + diameter[j]);
-  cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac + 4.0 * endcap_frac) + 2.0 * lmax_used;
+  // the reach of the law between the axes of two segments, D (1 + ramp). LAMMPS uses it (plus the
+  // skin) for its bins, among them those by which it sorts the atoms in memory (atom_modify
+  // sort): nodes close in space stay close in memory, which the random accesses of the contact
+  // loops need. The ghost shell the style needs (nodes up to 2 lmax farther, end caps) is set in
+  // init_style.
+  cut[i][j] = cut[j][i] = dc * (1.0 + ramp_frac);
   reachf[i][j] = reachf[j][i] = dc * (1.0 + ramp_frac);
   reach_max = MAX(reach_max, reachf[i][j]);
   tpar.resize((size_t) tstride * tstride);
