@@ -1290,17 +1290,18 @@ void PairNCFContact::compute(int eflag, int vflag)
     return slip;
   };
   // the forces of a contact added to its four nodes, its energy and penetration counted
-  auto apply = [&](int e, const double (*fs)[3], double energy, double pen) {
+  // (fs(m, d): component d of the force on node m)
+  auto apply = [&](int e, auto &&fs, double energy, double pen) {
     const PairCand &pc = plist[e];
     const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
     for (int k = 0; k < 4; k++) {
-      f[nodes[k]][0] += fs[k][0];
-      f[nodes[k]][1] += fs[k][1];
-      f[nodes[k]][2] += fs[k][2];
+      f[nodes[k]][0] += fs(k, 0);
+      f[nodes[k]][1] += fs(k, 1);
+      f[nodes[k]][2] += fs(k, 2);
       if (fatom_flag) {
-        fcon[3 * nodes[k] + 0] += fs[k][0];
-        fcon[3 * nodes[k] + 1] += fs[k][1];
-        fcon[3 * nodes[k] + 2] += fs[k][2];
+        fcon[3 * nodes[k] + 0] += fs(k, 0);
+        fcon[3 * nodes[k] + 1] += fs(k, 1);
+        fcon[3 * nodes[k] + 2] += fs(k, 2);
       }
     }
     if (eflag_global) eng_vdwl += energy;
@@ -1336,10 +1337,8 @@ void PairNCFContact::compute(int eflag, int vflag)
         has_wr[e] = 1;
       }
     }
-    double fs[4][3];
-    for (int m = 0; m < 4; m++)
-      for (int d = 0; d < 3; d++) fs[m][d] = c.f[m][d];
-    apply(e, fs, c.energy + espring, c.penetration);
+    apply(
+        e, [&c](int m, int d) { return c.f[m][d]; }, c.energy + espring, c.penetration);
     return false;
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
@@ -1407,7 +1406,9 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       pact[e] = 1;
       if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
-        const double *slip = start_slip(e, lane_had[l], use_history);
+        // (the last step's slip read in place; the new one is written after the step)
+        const double *slip =
+            lane_had[l] ? slip_rd + 3 * (size_t) e : start_slip(e, false, use_history);
         if (!slip) continue;
         for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
         lane_fric[l] = true;
@@ -1426,10 +1427,9 @@ void PairNCFContact::compute(int eflag, int vflag)
         has_wr[e] = 1;
         espring = tbatch.energy[l];
       }
-      double fs[4][3];
-      for (int m = 0; m < 4; m++)
-        for (int d = 0; d < 3; d++) fs[m][d] = batch.f[3 * m + d][l];
-      apply(e, fs, batch.energy[l] + espring, lane_pen[l]);
+      apply(
+          e, [this, l](int m, int d) { return batch.f[3 * m + d][l]; },
+          batch.energy[l] + espring, lane_pen[l]);
     }
     batch.n = 0;
   };
