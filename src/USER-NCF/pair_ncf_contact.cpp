@@ -1491,13 +1491,21 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[ncapev] = work[w];
     ncapev += cc.gap - (MAX(DM[cc.a0], DM[cc.a1]) + DM[cc.n]) < 0.0;
   }
+  // the cap acts only where A comes within D of the node (again without branches: about half of
+  // them do, unpredictably)
+  int ncapin = 0;
   for (int w = 0; w < ncapev; w++) {
+    const CapCand &cc = clist[work[w]];
+    const double dc = tpar[cc.tp].dc;
+    work[ncapin] = work[w];
+    ncapin += NCF::point_segment_dist2(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.n))) <
+        dc * dc;
+  }
+  for (int w = 0; w < ncapin; w++) {
     const CapCand &cc = clist[work[w]];
     const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
     const TypePair &tp = tpar[cc.tp];
     const double dc = tp.dc;
-    // the cap acts only where A comes within D of the node
-    if (NCF::point_segment_dist2(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(k))) >= dc * dc) continue;
     const NCF::NodeContact c =
         NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
                           dc, tp.kn, tp.ramp, core);
