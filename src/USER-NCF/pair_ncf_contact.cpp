@@ -1072,7 +1072,9 @@ void PairNCFContact::store_history(int b)
   if (nlocal != lists_nlocal)
     error->one(FLERR,
                "pair ncf/contact: the atoms changed before their friction history was stored "
-               "(define fixes that migrate atoms in pre_exchange after pair_style ncf/contact)");
+               "(a fix added, deleted or moved atoms in pre_exchange before fix {}: define such "
+               "fixes after pair_style ncf/contact)",
+               FixNCFContactHistory::ID);
   const unsigned char *has = phas[b].data();
   const double *slip = pslip[b].data();
   for (int i = 0; i < nlocal; i++) {
