@@ -115,6 +115,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lists_valid = false;
   lists_ncalls = -1;
   lists_nlocal = lists_nall = -1;
+  lseg_build = 0.0;
   hlast = 0;
   rows_current = true;
   nextra = 4;
@@ -862,12 +863,16 @@ void PairNCFContact::build_lists()
       xabs = MAX(xabs, std::fabs(x[k][d]));
     }
 
-  // every owned segment has its partner here
+  // every owned segment has its partner here; the longest of them
+  lseg_build = 0.0;
   for (int i = 0; i < nlocal; i++)
-    for (int sa = 0; sa < 2; sa++)
-      if (segp[2 * i + sa] == -2)
+    for (int sa = 0; sa < 2; sa++) {
+      const int p = segp[2 * i + sa];
+      if (p == -2)
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
+      if (p >= 0) lseg_build = MAX(lseg_build, NCF::norm(Vec3(x[p]) - Vec3(x[i])));
+    }
 
   // largest reach + skin of a segment pair (without the extensions at free ends)
   const double margin = reach_max + skin;
@@ -1190,9 +1195,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     return DM[k];
   };
 
-  // every owned segment within the length the cutoffs were sized for
+  // every owned segment within the length the cutoffs were sized for: checked one by one only when
+  // the longest at the build plus twice the largest displacement could exceed it
   const double lmax2 = lmax_used * lmax_used;
-  for (int i = 0; i < nlocal; i++)
+  const bool check_lengths = !(lseg_build * (1.0 + 1e-12) + dglob < lmax_used);
+  for (int i = 0; i < (check_lengths ? nlocal : 0); i++)
     for (int sa = 0; sa < 2; sa++) {
       const int ia = segp[2 * i + sa];
       if (ia < 0) continue;

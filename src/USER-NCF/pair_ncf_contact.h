@@ -134,6 +134,7 @@ class PairNCFContact : public Pair {
   int type_pair(int itype, int jtype) const { return itype * tstride + jtype; }
   std::vector<double> xbuild;    // positions of all local and ghost atoms at the build
   std::vector<PairCand> plist;
+  double lseg_build;    // longest owned segment at the build
   std::vector<CapCand> clist;
   bool lists_valid;
   bigint lists_ncalls;

@@ -405,6 +405,13 @@ thermo 0
 }
 
 namespace {
+std::string fmt_lmax(double lmax)
+{
+  char buf[64];
+  snprintf(buf, sizeof buf, "pair_style ncf/contact lmax %.9g", lmax);
+  return buf;
+}
+
 // node indices of the segments of a list of chains (nodes numbered chain after chain)
 std::vector<std::pair<int, int>> segments_of(const std::vector<Chain> &chains)
 {
@@ -539,6 +546,29 @@ TEST(PairContact, HistoryFixBeforeFixesThatMigrateAtoms)
   });
   EXPECT_THAT(err, HasSubstr("fix bal (balance) migrates atoms"));
   EXPECT_THAT(err, HasSubstr("define pair_style ncf/contact"));
+}
+
+// A segment that grows longer than the lmax the ghost shell was sized for during a run stops the
+// run (the style checks the lengths one by one only when the longest segment at the last list
+// build plus the displacements since could exceed lmax)
+TEST(PairContact, SegmentGrowingPastLmaxStops)
+{
+  auto dir = scratch_dir("contact_lmax");
+  const std::string data = write_data(dir + "/l.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  const double seg = 10.0 * MESH / 9.0;    // the segments of crossed()
+  auto run = [&](double vend) {
+    return error_of([&] {
+      Lammps l;
+      l.cmds(setup(data, "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
+                   fmt_lmax(1.02 * seg)));
+      l.cmd("group tip id 10");
+      l.cmd("velocity tip set " + std::to_string(vend) + " 0 0");
+      l.cmd("fix nve all nve");
+      l.cmd("run 200");
+    });
+  };
+  EXPECT_EQ(run(0.0), "");
+  EXPECT_THAT(run(3000.0), HasSubstr("longer than lmax"));
 }
 
 TEST(PairContact, ErrorsNameStyleKeywordAndValue)
