@@ -502,7 +502,6 @@ double PairNCFContact::init_one(int i, int j)
   reach_max = MAX(reach_max, reachf[i][j]);
   tpar.resize((size_t) tstride * tstride);
   TypePair &tpij = tpar[type_pair(i, j)];
-  tpij.reach = reachf[i][j];
   tpij.dc = dc;
   tpij.kn = kn[i][j];
   tpij.ramp = ramp_frac * dc;

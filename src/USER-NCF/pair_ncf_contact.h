@@ -122,7 +122,6 @@ class PairNCFContact : public Pair {
   // the coefficients of a type pair as the compute loops use them, in one small table (set at
   // init), so that a list entry needs neither the types of its nodes nor the 2d arrays
   struct TypePair {
-    double reach;    // D (1 + ramp)
     double dc;       // contact distance D
     double kn;       // normal stiffness per length
     double ramp;     // ramp half-width e
