@@ -17,8 +17,7 @@ using namespace FixConst;
    fix ID group ncf/contact/history   (no arguments; created by pair_style ncf/contact)
 ------------------------------------------------------------------------- */
 
-FixNCFContactHistory::FixNCFContactHistory(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg)
+FixNCFContactHistory::FixNCFContactHistory(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
   if (narg != 3)
     error->all(FLERR,

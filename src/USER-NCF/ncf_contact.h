@@ -258,7 +258,7 @@ struct TangentialBatch {
   double v[12][CONTACT_BATCH];      // velocities of A0, A1, B0, B1 (x, y, z each)
   double slip[3][CONTACT_BATCH];    // slip (updated)
   double kt[CONTACT_BATCH], mu[CONTACT_BATCH], damp[CONTACT_BATCH];
-  double energy[CONTACT_BATCH];     // spring energy
+  double energy[CONTACT_BATCH];    // spring energy
 };
 void tangential_batch(ContactBatch &b, TangentialBatch &t, double dt);
 

@@ -270,9 +270,9 @@ namespace {
   struct FrictionLane {
     double fx, fy, fz, energy;
   };
-  inline __attribute__((always_inline)) FrictionLane friction_lane(
-      double &sx, double &sy, double &sz, double nx, double ny, double nz, double vx, double vy,
-      double vz, double dt, double kt, double fn, double mu)
+  inline __attribute__((always_inline)) FrictionLane
+  friction_lane(double &sx, double &sy, double &sz, double nx, double ny, double nz, double vx,
+                double vy, double vz, double dt, double kt, double fn, double mu)
   {
     const bool valid = (kt > 0.0) & (fn > 0.0) & (mu > 0.0);
     // keep the stored slip in the current tangent plane, with its magnitude

@@ -912,8 +912,8 @@ void PairNCFContact::build_lists()
     NCF::extend_segment(pb0, pb1, endext[bo] + tp.ramp, endext[jb] + tp.ramp);
     const double gap =
         std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
-    const double grow = gap_growth(la, MAX(endext[ao], endext[ia]), lb,
-                                   MAX(endext[bo], endext[jb]) + tp.ramp);
+    const double grow =
+        gap_growth(la, MAX(endext[ao], endext[ia]), lb, MAX(endext[bo], endext[jb]) + tp.ramp);
     // no node moves more than skin / 2 before the next build (checked in compute)
     if (gap >= grow * skin) return;
     plist.push_back({ao, ia, bo, jb, type_pair(type[ao], type[bo]), (float) grow, gap});
@@ -1346,7 +1346,11 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
     }
     apply(
-        e, [&c](int m, int d) { return c.f[m][d]; }, c.energy + espring, c.penetration);
+        e,
+        [&c](int m, int d) {
+          return c.f[m][d];
+        },
+        c.energy + espring, c.penetration);
     return false;
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
@@ -1415,8 +1419,8 @@ void PairNCFContact::compute(int eflag, int vflag)
       pact[e] = 1;
       if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
         // (the last step's slip read in place; the new one is written after the step)
-        const double *slip =
-            lane_had[l] ? slip_rd + 3 * (size_t) e : start_slip(e, false, use_history);
+        const double *slip = lane_had[l] ? slip_rd + 3 * (size_t) e
+                                         : start_slip(e, false, use_history);
         if (!slip) continue;
         for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
         lane_fric[l] = true;
@@ -1436,7 +1440,10 @@ void PairNCFContact::compute(int eflag, int vflag)
         espring = tbatch.energy[l];
       }
       apply(
-          e, [this, l](int m, int d) { return batch.f[3 * m + d][l]; },
+          e,
+          [this, l](int m, int d) {
+            return batch.f[3 * m + d][l];
+          },
           batch.energy[l] + espring, lane_pen[l]);
     }
     batch.n = 0;
@@ -1506,8 +1513,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     const CapCand &cc = clist[work[w]];
     const double dc = tpar[cc.tp].dc;
     work[ncapin] = work[w];
-    ncapin += NCF::point_segment_dist2(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.n))) <
-        dc * dc;
+    ncapin +=
+        NCF::point_segment_dist2(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.n))) < dc * dc;
   }
   for (int w = 0; w < ncapin; w++) {
     const CapCand &cc = clist[work[w]];

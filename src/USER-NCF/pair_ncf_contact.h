@@ -89,20 +89,20 @@ class PairNCFContact : public Pair {
   // friction history per entry of the pair list between two list builds (loaded from the
   // per-atom store at the build), in two buffers: the last step's (hlast) and this step's; the
   // per-atom store is written from it when LAMMPS needs it (sync_history)
-  std::vector<double> pslip[2];           // per pair list entry: slip vector
-  std::vector<unsigned char> phas[2];     // per pair list entry: 1 if in contact (slip kept)
-  int hlast;                              // buffer of the last step
-  bool rows_current;                      // the per-atom rows hold buffer hlast
-  std::vector<int> pfirst;                // per owned node: first pair list entry it owns
-  std::vector<unsigned char> pact;        // per pair list entry: 1 if the law was active last step
-  std::vector<int> deferred;          // pair list entries whose take-over waits for ghost history
-  std::vector<int> work;              // pair list entries gathered for a loop (compute, store)
-  NCF::ContactBatch batch;            // lanes of the batched contact law
-  NCF::TangentialBatch tbatch;        // lanes of the batched dashpot and friction
-  std::vector<double> fcon;           // per local+ghost atom contact force (3), for fatom
-  std::vector<double> xd;    // per local+ghost atom, one cache line: position, displacement
-                             // bound, velocity, end-cap extension (this step)
-  std::vector<double> dmn;    // per local+ghost atom: the displacement bound again (dense)
+  std::vector<double> pslip[2];          // per pair list entry: slip vector
+  std::vector<unsigned char> phas[2];    // per pair list entry: 1 if in contact (slip kept)
+  int hlast;                             // buffer of the last step
+  bool rows_current;                     // the per-atom rows hold buffer hlast
+  std::vector<int> pfirst;               // per owned node: first pair list entry it owns
+  std::vector<unsigned char> pact;       // per pair list entry: 1 if the law was active last step
+  std::vector<int> deferred;      // pair list entries whose take-over waits for ghost history
+  std::vector<int> work;          // pair list entries gathered for a loop (compute, store)
+  NCF::ContactBatch batch;        // lanes of the batched contact law
+  NCF::TangentialBatch tbatch;    // lanes of the batched dashpot and friction
+  std::vector<double> fcon;       // per local+ghost atom contact force (3), for fatom
+  std::vector<double> xd;         // per local+ghost atom, one cache line: position, displacement
+                                  // bound, velocity, end-cap extension (this step)
+  std::vector<double> dmn;        // per local+ghost atom: the displacement bound again (dense)
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
@@ -122,10 +122,10 @@ class PairNCFContact : public Pair {
   // the coefficients of a type pair as the compute loops use them, in one small table (set at
   // init), so that a list entry needs neither the types of its nodes nor the 2d arrays
   struct TypePair {
-    double dc;       // contact distance D
-    double kn;       // normal stiffness per length
-    double ramp;     // ramp half-width e
-    double kt;       // tangential stiffness per length (ktr kn)
+    double dc;      // contact distance D
+    double kn;      // normal stiffness per length
+    double ramp;    // ramp half-width e
+    double kt;      // tangential stiffness per length (ktr kn)
     double mu, damp;
   };
   std::vector<TypePair> tpar;    // index itype * tstride + jtype

@@ -559,8 +559,7 @@ TEST(PairContact, SegmentGrowingPastLmaxStops)
   auto run = [&](double vend) {
     return error_of([&] {
       Lammps l;
-      l.cmds(setup(data, "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
-                   fmt_lmax(1.02 * seg)));
+      l.cmds(setup(data, "f f f", "pair_coeff * * kn 1e8 diameter 69e-6", fmt_lmax(1.02 * seg)));
       l.cmd("group tip id 10");
       l.cmd("velocity tip set " + std::to_string(vend) + " 0 0");
       l.cmd("fix nve all nve");
