@@ -1190,8 +1190,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   auto xof = [X](int k) {
     return X + NR * (size_t) k;
   };
-  auto dm = [DM](int k) {
-    return DM[k];
+  // how far the gap of a pair list entry can have closed since the build: grow times the
+  // displacement bounds of a node of A and of a node of B
+  auto closing = [DM](const PairCand &pc) {
+    return pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
   };
 
   // every owned segment within the length the cutoffs were sized for: checked one by one only when
@@ -1247,23 +1249,21 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     return en;
   };
-  // The contact of a list entry in three parts: prepare (bookkeeping, bounds and, if asked, the
-  // prefilter; false if the law need not be evaluated), the law, finish (friction, forces,
-  // counters; true if deferred). The main loop evaluates the law in batches (below).
-  auto prepare = [&](int e, bool &had, bool prefilter) -> bool {
+  // The contact of a list entry by the scalar law (deferred take-overs) in three parts: prepare
+  // (bookkeeping, bounds, prefilter; false if the law need not be evaluated), the law, finish
+  // (friction, forces, counters; true if deferred). The main loop evaluates the law in batches
+  // (below).
+  auto prepare = [&](int e, bool &had) -> bool {
     const PairCand &pc = plist[e];
-    const int ao = pc.a0, ia = pc.a1, bo = pc.b0, jb = pc.b1;
     // whether the pair was in contact (had a stored slip) in the previous step
     had = use_history && has_rd[e] != 0;
-    // the gap at the build closed by at most grow times the displacement bound of the nodes
-    const double close = pc.grow * (MAX(dm(ao), dm(ia)) + MAX(dm(bo), dm(jb)));
+    const double close = closing(pc);
     if (pc.gap - close >= 0.0) return false;
     // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
-    // that were not in contact in the previous step (most that were still are) and that go to
-    // the scalar law (the batched law rejects as fast)
+    // that were not in contact in the previous step (most that were still are)
     const bool was_active = pact[e] != 0;
     pact[e] = 0;
-    if (!prefilter || was_active || pc.gap + close < 0.0) return true;
+    if (was_active || pc.gap + close < 0.0) return true;
     const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
@@ -1355,7 +1355,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
     bool had;
-    if (!prepare(e, had, true)) return false;
+    if (!prepare(e, had)) return false;
     return finish(e, law(e), had, may_defer);
   };
   // the entries within the largest reach after the displacement bound of all nodes, gathered
@@ -1376,8 +1376,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
     const PairCand &pc = plist[e];
-    const double close = pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
-    const unsigned char keep = pc.gap - close < 0.0;
+    const unsigned char keep = pc.gap - closing(pc) < 0.0;
     work[nlane] = e;
     nlane += keep;
     pact[e] &= keep;
