@@ -230,7 +230,7 @@ namespace {
 // operations do, whichever version runs. Most zones lie within one regime of B's weight: all
 // lanes are first computed as one piece, the few across regimes again with three pieces.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
 void segment_contact_batch(ContactBatch &b, double core)
 {
@@ -315,7 +315,7 @@ namespace {
 // (__restrict: without it the compiler would have to check too many pairs of arrays for overlap
 // at run time and gives up vectorising)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
 void tangential_batch(ContactBatch &__restrict b, TangentialBatch &__restrict t, double dt)
 {
