@@ -1031,7 +1031,6 @@ void PairNCFContact::build_lists()
     }
   }
   pfirst[nlocal] = (int) plist.size();
-  pact.assign(plist.size(), 0);
   if (use_history) load_history();
 }
 
@@ -1259,11 +1258,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     had = use_history && has_rd[e] != 0;
     const double close = closing(pc);
     if (pc.gap - close >= 0.0) return false;
-    // the prefilter only rejects pairs whose law is zero, so it is worth its cost only for pairs
-    // that were not in contact in the previous step (most that were still are)
-    const bool was_active = pact[e] != 0;
-    pact[e] = 0;
-    if (was_active || pc.gap + close < 0.0) return true;
+    // (the prefilter only rejects pairs whose law is zero)
+    if (pc.gap + close < 0.0) return true;
     const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
@@ -1323,7 +1319,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (!c.active) return false;
     const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
-    pact[e] = 1;
     double espring = 0.0;
     if (use_velocity && c.fn > 0.0) {
       double *slip = nullptr;
@@ -1362,24 +1357,12 @@ void PairNCFContact::compute(int eflag, int vflag)
   // without branches first (about a third drop out, unpredictably); the others are no contact
   // (the distances d of the pair list are net of the extensions at free ends)
   const int npairs = (int) plist.size();
-  work.resize(npairs);
+  const int ncaps = (int) clist.size();
+  work.resize(MAX(npairs, ncaps));
   int nwork = 0;
   for (int e = 0; e < npairs; e++) {
-    const unsigned char near = plist[e].gap - plist[e].grow * dglob < 0.0;
     work[nwork] = e;
-    nwork += near;
-    pact[e] &= near;
-  }
-  // then those within reach after the displacement bounds of their own nodes, again without
-  // branches (so that the loads of the bounds of many entries overlap); the lanes get the rest
-  int nlane = 0;
-  for (int k = 0; k < nwork; k++) {
-    const int e = work[k];
-    const PairCand &pc = plist[e];
-    const unsigned char keep = pc.gap - closing(pc) < 0.0;
-    work[nlane] = e;
-    nlane += keep;
-    pact[e] &= keep;
+    nwork += plist[e].gap - plist[e].grow * dglob < 0.0;
   }
   // The pairs go through the batched law, which evaluates the common case several pairs per
   // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch),
@@ -1415,7 +1398,6 @@ void PairNCFContact::compute(int eflag, int vflag)
           lane_pen[l] =
               NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
       }
-      pact[e] = 1;
       if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
         // (the last step's slip read in place; the new one is written after the step)
         const double *slip = lane_had[l] ? slip_rd + 3 * (size_t) e
@@ -1447,31 +1429,40 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     batch.n = 0;
   };
-  for (int k = 0; k < nlane; k++) {
+  // Each entry within the largest reach goes into the next lane, which is kept only if the entry
+  // is also within reach after the displacement bounds of its own nodes (read from the rows just
+  // loaded; without a branch: about one in six drops out, unpredictably)
+  for (int k = 0; k < nwork; k++) {
     const int e = work[k];
-    const bool had = use_history && has_rd[e] != 0;
-    pact[e] = 0;
-    // segments at free chain ends enter extended (end caps), mapped back after the law
     const PairCand &pc = plist[e];
     const TypePair &tp = tpar[pc.tp];
-    const int l = batch.n++;
-    EntryNodes en = nodes_of(pc);
-    lane_ext[l] = en.extended();
+    const int l = batch.n;
+    const double *row[4] = {xof(pc.a0), xof(pc.a1), xof(pc.b0), xof(pc.b1)};
+    const double close = pc.grow * (MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]));
+    // segments at free chain ends enter extended (end caps), mapped back after the law
+    lane_ext[l] = row[0][7] != 0.0 || row[1][7] != 0.0 || row[2][7] != 0.0 || row[3][7] != 0.0;
     if (lane_ext[l]) {
+      EntryNodes en = nodes_of(pc);
       NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
       NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
-    }
-    batch.set(l, en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp);
-    if (use_velocity) {
-      const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+      batch.set(l, en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp);
+    } else {
       for (int m = 0; m < 4; m++)
-        for (int d = 0; d < 3; d++) tbatch.v[3 * m + d][l] = xof(ids[m])[4 + d];
+        for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
+      batch.dc[l] = tp.dc;
+      batch.kn[l] = tp.kn;
+      batch.ramp[l] = tp.ramp;
+    }
+    if (use_velocity) {
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) tbatch.v[3 * m + d][l] = row[m][4 + d];
       tbatch.kt[l] = tp.kt;
       tbatch.mu[l] = tp.mu;
       tbatch.damp[l] = tp.damp;
     }
     lane_e[l] = e;
-    lane_had[l] = had;
+    lane_had[l] = use_history && has_rd[e] != 0;
+    batch.n += pc.gap - close < 0.0;
     if (batch.n == NCF::CONTACT_BATCH) flush();
   }
   if (batch.n > 0) flush();
@@ -1492,28 +1483,22 @@ void PairNCFContact::compute(int eflag, int vflag)
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
   // (the caps within the largest diameter after the displacement bound of all nodes gathered
   // first, without branches)
-  const int ncaps = (int) clist.size();
-  work.resize(ncaps);
   int nnear = 0;
   for (int e = 0; e < ncaps; e++) {
     work[nnear] = e;
     nnear += clist[e].gap - dglob < 0.0;
   }
-  int ncapev = 0;
+  // then those within reach after the displacement bounds of their own nodes where, moreover, A
+  // comes within D of the node (the cap acts only there): again without branches, about half of
+  // them drop out, unpredictably
+  int ncapin = 0;
   for (int w = 0; w < nnear; w++) {
     const CapCand &cc = clist[work[w]];
-    work[ncapev] = work[w];
-    ncapev += cc.gap - (MAX(DM[cc.a0], DM[cc.a1]) + DM[cc.n]) < 0.0;
-  }
-  // the cap acts only where A comes within D of the node (again without branches: about half of
-  // them do, unpredictably)
-  int ncapin = 0;
-  for (int w = 0; w < ncapev; w++) {
-    const CapCand &cc = clist[work[w]];
     const double dc = tpar[cc.tp].dc;
+    const double *ra = xof(cc.a0), *rb = xof(cc.a1), *rn = xof(cc.n);
+    const bool within = cc.gap - (MAX(ra[3], rb[3]) + rn[3]) < 0.0;
     work[ncapin] = work[w];
-    ncapin +=
-        NCF::point_segment_dist2(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.n))) < dc * dc;
+    ncapin += within & (NCF::point_segment_dist2(Vec3(ra), Vec3(rb), Vec3(rn)) < dc * dc);
   }
   for (int w = 0; w < ncapin; w++) {
     const CapCand &cc = clist[work[w]];

@@ -94,7 +94,6 @@ class PairNCFContact : public Pair {
   int hlast;                             // buffer of the last step
   bool rows_current;                     // the per-atom rows hold buffer hlast
   std::vector<int> pfirst;               // per owned node: first pair list entry it owns
-  std::vector<unsigned char> pact;       // per pair list entry: 1 if the law was active last step
   std::vector<int> deferred;      // pair list entries whose take-over waits for ghost history
   std::vector<int> work;          // pair list entries gathered for a loop (compute, store)
   NCF::ContactBatch batch;        // lanes of the batched contact law
