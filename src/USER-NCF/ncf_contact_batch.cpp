@@ -225,9 +225,10 @@ namespace {
   }
 }    // namespace
 
-// Compiled twice, for AVX2 (4 lanes per instruction) and for the x86-64 baseline (SSE2, 2 lanes),
-// chosen when the library is loaded. No FMA: every lane rounds exactly as the scalar law's
-// operations do, whichever version runs. Most zones lie within one regime of B's weight: all
+// Compiled three times, for AVX-512 (x86-64-v4, 8 lanes per instruction), AVX2 (4 lanes) and the
+// x86-64 baseline (SSE2, 2 lanes), chosen when the library is loaded. No FMA (-ffp-contract=off,
+// CMakeLists.txt): every lane rounds exactly as the scalar law's operations do, whichever version
+// runs. Most zones lie within one regime of B's weight: all
 // lanes are first computed as one piece, the few across regimes again with three pieces.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
