@@ -1374,12 +1374,12 @@ void PairNCFContact::compute(int eflag, int vflag)
   batch.n = 0;
   auto flush = [&]() {
     NCF::segment_contact_batch(batch, core);
-    // the lanes in contact: mapped back at free chain ends, the slip of those with friction set
-    // up (or the entry deferred); the others to the scalar law (-1) or no contact (0)
+    // the lanes in contact: mapped back at free chain ends, the slip of new contacts with
+    // friction taken over (or the entry deferred); the others to the scalar law (-1) or no
+    // contact (0)
     for (int l = 0; l < batch.n; l++) {
       const int e = lane_e[l];
       lane_go[l] = lane_fric[l] = false;
-      for (int d = 0; d < 3; d++) tbatch.slip[d][l] = 0.0;
       if (batch.status[l] < 0.0) {
         finish(e, law(e), lane_had[l], use_history);
         continue;
@@ -1399,11 +1399,12 @@ void PairNCFContact::compute(int eflag, int vflag)
               NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
       }
       if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
-        // (the last step's slip read in place; the new one is written after the step)
-        const double *slip = lane_had[l] ? slip_rd + 3 * (size_t) e
-                                         : start_slip(e, false, use_history);
-        if (!slip) continue;
-        for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
+        // (the slip of the last step is in the lane already; the new one is written after it)
+        if (!lane_had[l]) {
+          const double *slip = start_slip(e, false, use_history);
+          if (!slip) continue;
+          for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
+        }
         lane_fric[l] = true;
       }
       lane_go[l] = true;
@@ -1461,7 +1462,16 @@ void PairNCFContact::compute(int eflag, int vflag)
       tbatch.damp[l] = tp.damp;
     }
     lane_e[l] = e;
-    lane_had[l] = use_history && has_rd[e] != 0;
+    if (use_history) {
+      // the slip of the last step (zero if the pair was not in contact), used only with friction
+      const bool had = has_rd[e] != 0;
+      const double *sr = slip_rd + 3 * (size_t) e;
+      for (int d = 0; d < 3; d++) tbatch.slip[d][l] = had ? sr[d] : 0.0;
+      lane_had[l] = had;
+    } else {
+      for (int d = 0; d < 3; d++) tbatch.slip[d][l] = 0.0;
+      lane_had[l] = false;
+    }
     batch.n += pc.gap - close < 0.0;
     if (batch.n == NCF::CONTACT_BATCH) flush();
   }
