@@ -1155,33 +1155,42 @@ void PairNCFContact::compute(int eflag, int vflag)
   // and the displacement bounds again in one dense array, for the bound tests of the list entries
   dmn.resize(nall);
   double *const DM = dmn.data();
-  double dmove2 = 0.0;
-  for (int k = 0; k < nall; k++) {
-    const double *xb = &xbuild[3 * (size_t) k];
-    const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    dmove2 = MAX(dmove2, d2);
-    double *xk = X + NR * (size_t) k;
-    xk[0] = x[k][0];
-    xk[1] = x[k][1];
-    xk[2] = x[k][2];
-    // (relative margin for the round-off of the distances)
-    xk[3] = DM[k] = std::sqrt(d2) * (1.0 + 1e-12) + 0.5e-12 * reach_max;
-    if (use_velocity) {
-      xk[4] = v[k][0];
-      xk[5] = v[k][1];
-      xk[6] = v[k][2];
+  // (relative margin for the round-off of the distances)
+  const double dm_margin = 0.5e-12 * reach_max;
+  const double *const XB = xbuild.data();
+  const double *const EX = endext.data();
+  const bool copy_v = use_velocity;
+  auto pack = [&](int k0, int k1) {
+    double d2max = 0.0;
+    for (int k = k0; k < k1; k++) {
+      const double *xb = XB + 3 * (size_t) k;
+      const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      d2max = MAX(d2max, d2);
+      double *xk = X + NR * (size_t) k;
+      xk[0] = x[k][0];
+      xk[1] = x[k][1];
+      xk[2] = x[k][2];
+      xk[3] = DM[k] = std::sqrt(d2) * (1.0 + 1e-12) + dm_margin;
+      if (copy_v) {
+        xk[4] = v[k][0];
+        xk[5] = v[k][1];
+        xk[6] = v[k][2];
+      }
+      xk[7] = EX[k];
     }
-    xk[7] = endext[k];
-    // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
-    // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
-    if (k == nlocal - 1 && dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
-      error->one(FLERR,
-                 "pair ncf/contact: a node moved {:.6g} since the last reneighbouring, more than "
-                 "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
-                 "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
-                 std::sqrt(dmove2), neighbor->skin);
-  }
+    return d2max;
+  };
+  double dmove2 = pack(0, nlocal);
+  // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
+  // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
+  if (dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
+    error->one(FLERR,
+               "pair ncf/contact: a node moved {:.6g} since the last reneighbouring, more than "
+               "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
+               "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
+               std::sqrt(dmove2), neighbor->skin);
+  dmove2 = MAX(dmove2, pack(nlocal, nall));
   // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
   // node data are loaded
@@ -1433,10 +1442,29 @@ void PairNCFContact::compute(int eflag, int vflag)
   // Each entry within the largest reach goes into the next lane, which is kept only if the entry
   // is also within reach after the displacement bounds of its own nodes (read from the rows just
   // loaded; without a branch: about one in six drops out, unpredictably)
+  // with one set of coefficients for all type pairs (the usual case) they are put into every lane
+  // once, not lane by lane
+  const int ntypes = atom->ntypes;
+  bool uniform = true;
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = 1; j <= ntypes; j++) {
+      const TypePair &a = tpar[type_pair(1, 1)], &b = tpar[type_pair(i, j)];
+      uniform = uniform && a.dc == b.dc && a.kn == b.kn && a.ramp == b.ramp && a.kt == b.kt &&
+          a.mu == b.mu && a.damp == b.damp;
+    }
+  auto set_coefficients = [&](int l, const TypePair &tp) {
+    batch.dc[l] = tp.dc;
+    batch.kn[l] = tp.kn;
+    batch.ramp[l] = tp.ramp;
+    tbatch.kt[l] = tp.kt;
+    tbatch.mu[l] = tp.mu;
+    tbatch.damp[l] = tp.damp;
+  };
+  if (uniform)
+    for (int l = 0; l < NCF::CONTACT_BATCH; l++) set_coefficients(l, tpar[type_pair(1, 1)]);
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
     const PairCand &pc = plist[e];
-    const TypePair &tp = tpar[pc.tp];
     const int l = batch.n;
     const double *row[4] = {xof(pc.a0), xof(pc.a1), xof(pc.b0), xof(pc.b1)};
     const double close = pc.grow * (MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]));
@@ -1446,21 +1474,19 @@ void PairNCFContact::compute(int eflag, int vflag)
       EntryNodes en = nodes_of(pc);
       NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
       NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
-      batch.set(l, en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp);
+      for (int m = 0; m < 4; m++) {
+        batch.x[3 * m][l] = en.x[m].x;
+        batch.x[3 * m + 1][l] = en.x[m].y;
+        batch.x[3 * m + 2][l] = en.x[m].z;
+      }
     } else {
       for (int m = 0; m < 4; m++)
         for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
-      batch.dc[l] = tp.dc;
-      batch.kn[l] = tp.kn;
-      batch.ramp[l] = tp.ramp;
     }
-    if (use_velocity) {
+    if (!uniform) set_coefficients(l, tpar[pc.tp]);
+    if (use_velocity)
       for (int m = 0; m < 4; m++)
         for (int d = 0; d < 3; d++) tbatch.v[3 * m + d][l] = row[m][4 + d];
-      tbatch.kt[l] = tp.kt;
-      tbatch.mu[l] = tp.mu;
-      tbatch.damp[l] = tp.damp;
-    }
     lane_e[l] = e;
     if (use_history) {
       // the slip of the last step (zero if the pair was not in contact), used only with friction
