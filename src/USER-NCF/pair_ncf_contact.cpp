@@ -368,7 +368,7 @@ void PairNCFContact::find_lmax()
         const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
         r2 += dx * dx;
       }
-      lmax = MAX(lmax, std::sqrt(r2));
+      lmax = std::max(lmax, std::sqrt(r2));
     }
   // critical time step of the contacts: a node of mass m pressed against an equal one by parallel
   // contacts over half its two segments, stiffness k = kn (L_1 + L_2)/2: dt_c = sqrt(2 m / k)
@@ -859,7 +859,7 @@ void PairNCFContact::build_lists()
   for (int k = 0; k < nall; k++)
     for (int d = 0; d < 3; d++) {
       xbuild[3 * (size_t) k + d] = x[k][d];
-      xabs = MAX(xabs, std::fabs(x[k][d]));
+      xabs = std::max(xabs, std::fabs(x[k][d]));
     }
 
   // every owned segment has its partner here; the longest of them
@@ -870,7 +870,7 @@ void PairNCFContact::build_lists()
       if (p == -2)
         error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
                    tag[i]);
-      if (p >= 0) lseg_build = MAX(lseg_build, NCF::norm(Vec3(x[p]) - Vec3(x[i])));
+      if (p >= 0) lseg_build = std::max(lseg_build, NCF::norm(Vec3(x[p]) - Vec3(x[i])));
     }
 
   // largest reach + skin of a segment pair (without the extensions at free ends)
@@ -1190,7 +1190,8 @@ void PairNCFContact::compute(int eflag, int vflag)
                "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
                "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                std::sqrt(dmove2), neighbor->skin);
-  dmove2 = MAX(dmove2, pack(nlocal, nall));
+  const double dmove2_ghost = pack(nlocal, nall);    // (not inside MAX: it would run twice)
+  dmove2 = MAX(dmove2, dmove2_ghost);
   // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
   // node data are loaded
