@@ -1384,40 +1384,49 @@ void PairNCFContact::compute(int eflag, int vflag)
   batch.n = 0;
   auto flush = [&]() {
     NCF::segment_contact_batch(batch, core);
-    // the lanes in contact: mapped back at free chain ends, the slip of new contacts with
-    // friction taken over (or the entry deferred); the others to the scalar law (-1) or no
-    // contact (0)
+    // The lanes in contact (status 1) go on, those with friction with their slip; the others are
+    // no contact (0) or left to the scalar law (-1). Flags first, without branches; then the few
+    // lanes that need more: the scalar law, the mapping back at free chain ends, the penetration
+    // output, the slip a new contact with friction takes over (or its entry deferred)
+    const bool hist = use_history, eng = eflag_global != 0;
+    int special[NCF::CONTACT_BATCH], nspecial = 0;
     for (int l = 0; l < batch.n; l++) {
-      const int e = lane_e[l];
-      lane_go[l] = lane_fric[l] = false;
+      const double st = batch.status[l];
+      const bool go = st > 0.0;
+      const bool fric = hist & go & (tbatch.mu[l] > 0.0) & (batch.fn[l] > 0.0);
+      lane_go[l] = go;
+      lane_fric[l] = fric;
+      lane_pen[l] = 0.0;
+      special[nspecial] = l;
+      nspecial += (st < 0.0) | (go & (lane_ext[l] | eng | (fric & !lane_had[l])));
+    }
+    for (int k = 0; k < nspecial; k++) {
+      const int l = special[k], e = lane_e[l];
       if (batch.status[l] < 0.0) {
         finish(e, law(e), lane_had[l], use_history);
         continue;
       }
-      if (!(batch.status[l] > 0.0)) continue;
       const PairCand &pc = plist[e];
-      lane_pen[l] = 0.0;
-      if (lane_ext[l] || eflag_global) {
+      if (lane_ext[l] || eng) {
         const EntryNodes en = nodes_of(pc);
         if (lane_ext[l]) {
           NCF::SegmentContact c = batch.result(l);
           NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, c);
           batch.set_result(l, c);
         }
-        if (eflag_global)
+        if (eng)
           lane_pen[l] =
               NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
       }
-      if (use_history && tbatch.mu[l] > 0.0 && batch.fn[l] > 0.0) {
-        // (the slip of the last step is in the lane already; the new one is written after it)
-        if (!lane_had[l]) {
-          const double *slip = start_slip(e, false, use_history);
-          if (!slip) continue;
-          for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
+      // (the slip of the last step is in the lane already; the new one is written after it)
+      if (lane_fric[l] && !lane_had[l]) {
+        const double *slip = start_slip(e, false, use_history);
+        if (!slip) {
+          lane_go[l] = lane_fric[l] = false;
+          continue;
         }
-        lane_fric[l] = true;
+        for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
       }
-      lane_go[l] = true;
     }
     if (use_velocity) NCF::tangential_batch(batch, tbatch, dt);
     for (int l = 0; l < batch.n; l++) {
