@@ -378,6 +378,14 @@ namespace {
   constexpr double DEFICIT_TOL = 1e-9;
 }    // namespace
 
+// Compiled for AVX-512, AVX2 and the x86-64 baseline, picked at run time (as the batched kernels):
+// the quadrature's point loop is vectorised, with the same operations (no FMA) in every version.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define NCF_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#else
+#define NCF_TARGET_CLONES
+#endif
+NCF_TARGET_CLONES
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
                          const Vec3 &q, double dc, double kn, double ramp, double core)
 {
@@ -466,7 +474,7 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
                                0.8611363115940526};
   static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                0.3478548451374538};
-  // On each piece the weights W1, W2 are each constant, zero or one ramp (branch taken at the
+  // On each piece the weights W1, W2 are each constant, zero or one ramp (regime taken at the
   // middle of the piece) and the core is in or out, so the integrand is one polynomial: with
   // x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11, r2 = R20 + xi R21
   // of x from the two lines, the gradient is a sum of scalar moments times these vectors.
@@ -475,58 +483,98 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   const Vec3 R10 = w0 + (n - p) - s10 * e1, R11 = da - s11 * e1;
   const Vec3 R20 = w0 - s20 * e2, R21 = da - s21 * e2;
   const double inv2e = 0.5 / e;
-  double A0 = 0.0, A1 = 0.0, A2 = 0.0, E0 = 0.0;       // sum alpha (1, xi, xi^2); sum eps
-  double S1 = 0.0, S1x = 0.0, B1a = 0.0, B1b = 0.0;    // sum sigma1 beta1 (1, xi); beta1 per ramp
-  double S2 = 0.0, S2x = 0.0, B2a = 0.0, B2b = 0.0;    // the same for segment 2
+
+  // First pass, per piece (scalar, no branches): the regimes of the two weights at the middle
+  // of the piece give the ramp flags fa_k (W_k is the ramp at the first node of segment k, slope
+  // +1/2e in s_k), fb_k (the ramp at its second node, slope -1/2e) and the deficit, linear on the
+  // piece: defmid + dsl (xi - mid). The four Gauss points of each piece are written to the point
+  // arrays and kept (npt advanced) where half > 0 and defmid > 0; a skipped piece is overwritten
+  // by the next one or by the padding: 8 points with om = 0, which contribute exact zeros.
+  constexpr int MAXPT = 4 * 27 + 8;    // pieces: at most 26 (28 entries in pts)
+  alignas(64) double pxi[MAXPT], pom[MAXPT], pdf[MAXPT];
+  alignas(64) double pfa1[MAXPT], pfb1[MAXPT], pfa2[MAXPT], pfb2[MAXPT];
+  int npt = 0;
   for (int k = 0; k + 1 < np; k++) {
     const double half = 0.5 * (pts[k + 1] - pts[k]);
-    if (!(half > 0.0)) continue;
     const double mid = 0.5 * (pts[k + 1] + pts[k]);
     const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
-    const int reg1 = weight_regime(s1m, l1, inv2e), reg2 = weight_regime(s2m, l2, inv2e);
-    const double defmid = 1.0 - weight_in(reg1, s1m, l1, inv2e) - weight_in(reg2, s2m, l2, inv2e) -
-        DEFICIT_TOL;    // round-off of straight chains
-    if (!(defmid > 0.0)) continue;
-    const bool incore = prof.in_core(norm2(w0 + mid * da));
-    double a0s = 0.0, a1s = 0.0, a2s = 0.0, es = 0.0, bs = 0.0, bx = 0.0;
+    // W = clamp(min(wa, wb), 0, 1) (weight_regime and weight_in without their branches)
+    const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
+    const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
+    const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
+    const bool ramp1 = (w1 > 0.0) & (w1 < 1.0), ramp2 = (w2 > 0.0) & (w2 < 1.0);
+    const bool first1 = wa1 <= wb1, first2 = wa2 <= wb2;
+    const double fa1 = ramp1 & first1 ? 1.0 : 0.0, fb1 = ramp1 & !first1 ? 1.0 : 0.0;
+    const double fa2 = ramp2 & first2 ? 1.0 : 0.0, fb2 = ramp2 & !first2 ? 1.0 : 0.0;
+    const double defmid =
+        1.0 - clamp01(w1) - clamp01(w2) - DEFICIT_TOL;    // round-off of straight chains
+    const double dsl = ((fb1 - fa1) * s11 + (fb2 - fa2) * s21) * inv2e;
     for (int qd = 0; qd < 4; qd++) {
-      const double xi = mid + half * gx[qd];
-      const double om = half * gw[qd];
-      const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-      const double def = std::max(
-          0.0, 1.0 - weight_in(reg1, s1, l1, inv2e) - weight_in(reg2, s2, l2, inv2e) - DEFICIT_TOL);
+      const double y = half * gx[qd];
+      pxi[npt + qd] = mid + y;
+      pom[npt + qd] = half * gw[qd];
+      pdf[npt + qd] = defmid + dsl * y;
+      pfa1[npt + qd] = fa1;
+      pfb1[npt + qd] = fb1;
+      pfa2[npt + qd] = fa2;
+      pfb2[npt + qd] = fb2;
+    }
+    npt += (half > 0.0) & (defmid > 0.0) ? 4 : 0;
+  }
+  for (int i = 0; i < 8; i++) {
+    pxi[npt + i] = pom[npt + i] = pdf[npt + i] = 0.0;
+    pfa1[npt + i] = pfb1[npt + i] = pfa2[npt + i] = pfb2[npt + i] = 0.0;
+  }
+  const int nptp = (npt + 7) & ~7;
+
+  // Second pass, over the points in chunks of 8 with one accumulator per lane for each moment:
+  // the lane loop vectorises without reassociating any sum, and every instruction set computes
+  // the same operations in the same order (the same bits). |x - n|^2 from the point of A's line
+  // closest to n (no cancellation); the core's term vanishes by itself outside the core (the
+  // pieces lie either inside or outside it: its boundary is a break point).
+  const double la2 = la * la, xc = -dot(w0, da) / la2, rc2 = norm2(w0 + xc * da);
+  const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
+  const double kh = 0.5 * kap, kd = kap * prof.invc;
+  double sA0[8] = {}, sA1[8] = {}, sA2[8] = {}, sE0[8] = {};
+  double sB1a[8] = {}, sB1b[8] = {}, sS1x[8] = {}, sB2a[8] = {}, sB2b[8] = {}, sS2x[8] = {};
+  for (int c = 0; c < nptp; c += 8) {
+    for (int j = 0; j < 8; j++) {
+      const int i = c + j;
+      const double xi = pxi[i], t = xi - xc;
+      const double r2 = rc2 + la2 * (t * t);
       // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-      double hh, hd;
-      prof.at(norm2(w0 + xi * da), incore, hh, hd);
+      const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
+      const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+      const double hh = 0.5 * h * h + kh * hc * hc;
+      const double hd = h * prof.invd + kd * hc;
       // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
       // through straight (the deficit grows like the kink angle)
-      const double dd = def * def;
-      const double al = om * hd * dd, bt = om * 2.0 * def * hh * inv2e;
-      a0s += al;
-      a1s += al * xi;
-      a2s += al * xi * xi;
-      es += om * hh * dd;
-      bs += bt;
-      bx += bt * xi;
-    }
-    A0 += a0s;
-    A1 += a1s;
-    A2 += a2s;
-    E0 += es;
-    // the ramp moments (beta is the same for both segments: om ddp / 2e where a ramp acts)
-    if (reg1 == 1 || reg1 == 2) {
-      const double sg = reg1 == 1 ? 1.0 : -1.0;
-      S1 += sg * bs;
-      S1x += sg * bx;
-      (reg1 == 1 ? B1a : B1b) += bs;
-    }
-    if (reg2 == 1 || reg2 == 2) {
-      const double sg = reg2 == 1 ? 1.0 : -1.0;
-      S2 += sg * bs;
-      S2x += sg * bx;
-      (reg2 == 1 ? B2a : B2b) += bs;
+      const double def = std::max(0.0, pdf[i]);
+      const double od = pom[i] * def, odd = od * def;
+      const double al = odd * hd, bt = od * hh;    // alpha; beta / (2 inv2e)
+      const double ax = al * xi, bx = bt * xi;
+      sA0[j] += al;
+      sA1[j] += ax;
+      sA2[j] += ax * xi;
+      sE0[j] += odd * hh;
+      sB1a[j] += pfa1[i] * bt;
+      sB1b[j] += pfb1[i] * bt;
+      sS1x[j] += (pfa1[i] - pfb1[i]) * bx;
+      sB2a[j] += pfa2[i] * bt;
+      sB2b[j] += pfb2[i] * bt;
+      sS2x[j] += (pfa2[i] - pfb2[i]) * bx;
     }
   }
+  // the lanes summed in a fixed order; the ramp moments: beta = om ddp / 2e where a ramp acts,
+  // sigma_k beta summed (S1 = B1a - B1b) and per node of the ramp (B1a, B1b)
+  auto lanes = [](const double *s) {
+    return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+  };
+  const double rs = 2.0 * inv2e;
+  const double A0 = lanes(sA0), A1 = lanes(sA1), A2 = lanes(sA2), E0 = lanes(sE0);
+  const double B1a = rs * lanes(sB1a), B1b = rs * lanes(sB1b), S1x = rs * lanes(sS1x);
+  const double B2a = rs * lanes(sB2a), B2b = rs * lanes(sB2b), S2x = rs * lanes(sS2x);
+  const double S1 = B1a - B1b, S2 = B2a - B2b;
   const double K = kn * la, energy = K * E0;
   Vec3 g[5];
   const Vec3 lpart = (kn * E0) * ea;
@@ -541,8 +589,7 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   out.active = true;
   out.energy = energy;
   for (int k = 0; k < 5; k++) out.f[k] = -g[k];
-  const ClosestPoints cp = closest_points_segments(a0, a1, n, n);
-  out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  out.penetration = std::max(0.0, dc - std::sqrt(point_segment_dist2(a0, a1, n)));
   return out;
 }
 
