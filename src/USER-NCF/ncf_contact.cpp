@@ -392,17 +392,18 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   NodeContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
   const Vec3 da = a1 - a0, u1 = n - p, u2 = q - n;
-  const double la = norm(da), l1 = norm(u1), l2 = norm(u2);
+  const double la2 = norm2(da), la = std::sqrt(la2), l1 = norm(u1), l2 = norm(u2);
   const double lmin = MIN_LENGTH * dc;
   if (!(la > lmin) || !(l1 > lmin) || !(l2 > lmin)) return out;
-  const Vec3 ea = (1.0 / la) * da, e1 = (1.0 / l1) * u1, e2 = (1.0 / l2) * u2;
+  const double il1 = 1.0 / l1, il2 = 1.0 / l2;
+  const Vec3 e1 = il1 * u1, e2 = il2 * u2;
   const double d2 = dc * dc, e = ramp;
 
   // |x(xi) - n|^2 < D^2 along A
   const Vec3 w0 = a0 - n;
+  const double qb = 2.0 * dot(w0, da), qc = norm2(w0);
   double lo, hi;
-  if (!negative_interval(norm2(da), 2.0 * dot(w0, da), norm2(w0) - d2, 1e-28 * la * la, lo, hi))
-    return out;
+  if (!negative_interval(la2, qb, qc - d2, 1e-28 * la2, lo, hi)) return out;
   lo = std::max(lo, 0.0);
   hi = std::min(hi, 1.0);
   if (!(hi > lo)) return out;
@@ -419,177 +420,216 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   }
 
   // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
-  const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
+  const Vec3 ap = a0 - p;
+  const double s10 = dot(ap, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
-  // the corners of the two weights (in increasing arc position: -e, e, l/2, l - e, l + e, or
-  // -e, l - e, l/2, e, l + e for a segment shorter than 2e), then the core's boundary
-  // |x - n| = D_c: three increasing lists, merged
-  double b1[5], b2[5], b12[10], kb[2];
-  int n1 = 0, n2 = 0, n12 = 0, nk = 0;
-  auto corners = [e](double l, double *c) {
-    c[0] = -e;
-    c[1] = std::min(e, l - e);
-    c[2] = 0.5 * l;
-    c[3] = std::max(e, l - e);
-    c[4] = l + e;
+  // The break points: the corners of the two weights (in increasing arc position: -e, e, l/2,
+  // l - e, l + e, or -e, l - e, l/2, e, l + e for a segment shorter than 2e), then the core's
+  // boundary |x - n| = D_c: three increasing lists of the points inside (lo, hi), merged
+  // (without branches that depend on the values: a kink of a few degrees puts the corners of
+  // the two weights at n close together, in either order)
+  constexpr double BIG = 1e300;
+  auto line_corners = [e, lo, hi, la](double l, double s0, double s1, double *out) {
+    if (!(std::fabs(s1) > 1e-14 * la)) return 0;
+    const double c[5] = {-e, std::min(e, l - e), 0.5 * l, std::max(e, l - e), l + e};
+    const double inv_s1 = 1.0 / s1;
+    const int k0 = inv_s1 > 0.0 ? 0 : 4, dk = inv_s1 > 0.0 ? 1 : -1;
+    int nout = 0;
+    for (int k = 0; k < 5; k++) {
+      const double x = (c[k0 + dk * k] - s0) * inv_s1;
+      out[nout] = x;
+      nout += (x > lo) & (x < hi);
+    }
+    return nout;
   };
-  double c1[5], c2[5];
-  corners(l1, c1);
-  corners(l2, c2);
-  if (std::fabs(s11) > 1e-14 * la) line_breaks(c1, 5, s10, 1.0 / s11, lo, hi, b1, n1);
-  if (std::fabs(s21) > 1e-14 * la) line_breaks(c2, 5, s20, 1.0 / s21, lo, hi, b2, n2);
-  merge_breaks(b1, n1, b2, n2, b12, n12);
+  double b1[6], b2[6], kb[3];
+  const int n1 = line_corners(l1, s10, s11, b1), n2 = line_corners(l2, s20, s21, b2);
   const Profile prof(dc, core);
-  prof.core_breaks(norm2(da), 2.0 * dot(w0, da), norm2(w0), 1e-28 * la * la, lo, hi, kb, nk);
-  double brk[14];
+  int nk = 0;
+  prof.core_breaks(la2, qb, qc, 1e-28 * la2, lo, hi, kb, nk);
+  b1[n1] = b2[n2] = kb[nk] = BIG;
+  double brk[14 + 8];    // lo, at most 12 break points, hi; padding (below)
   int nb = 0;
   brk[nb++] = lo;
-  merge_breaks(b12, n12, kb, nk, brk, nb);
-  brk[nb++] = hi;
-  // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
-  auto deficit = [&](double xi) {
-    const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-    return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
-  };
-  double pts[28];
-  int np = 0;
-  double fa = deficit(brk[0]), defmax = fa;
-  for (int k = 0; k + 1 < nb; k++) {
-    pts[np++] = brk[k];
-    const double fb = deficit(brk[k + 1]);
-    defmax = std::max(defmax, fb);
-    if ((fa > 0.0 && fb < 0.0) || (fa < 0.0 && fb > 0.0)) {
-      const double x = brk[k] + (brk[k + 1] - brk[k]) * fa / (fa - fb);
-      if (x > brk[k] && x < brk[k + 1]) pts[np++] = x;
-    }
-    fa = fb;
+  for (int m = 0, i1 = 0, i2 = 0, ik = 0; m < n1 + n2 + nk; m++) {
+    const double x1 = b1[i1], x2 = b2[i2], xk = kb[ik];
+    const bool t1 = (x1 <= x2) & (x1 <= xk), t2 = !t1 & (x2 <= xk);
+    brk[nb++] = std::min(x1, std::min(x2, xk));
+    i1 += t1;
+    i2 += t2;
+    ik += !t1 & !t2;
   }
-  pts[np++] = brk[nb - 1];
-  // the deficit is linear between the break points: no deficit at any of them (a straight or
-  // nearly straight chain, or A on the concave side), no cap
-  if (!(defmax > 0.0)) return out;
+  brk[nb++] = hi;
 
   // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
   static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
                                0.8611363115940526};
   static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                0.3478548451374538};
-  // On each piece the weights W1, W2 are each constant, zero or one ramp (regime taken at the
-  // middle of the piece) and the core is in or out, so the integrand is one polynomial: with
-  // x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11, r2 = R20 + xi R21
-  // of x from the two lines, the gradient is a sum of scalar moments times these vectors.
-  // Per point: alpha = om hd dd, beta_k = om ddp W_k' (ramp of segment k, sign sigma_k = +1 at
-  // its first node, -1 at its second), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh)
-  const Vec3 R10 = w0 + (n - p) - s10 * e1, R11 = da - s11 * e1;
-  const Vec3 R20 = w0 - s20 * e2, R21 = da - s21 * e2;
   const double inv2e = 0.5 / e;
 
-  // First pass, per piece (scalar, no branches): the regimes of the two weights at the middle
-  // of the piece give the ramp flags fa_k (W_k is the ramp at the first node of segment k, slope
-  // +1/2e in s_k), fb_k (the ramp at its second node, slope -1/2e) and the deficit, linear on the
-  // piece: defmid + dsl (xi - mid). The four Gauss points of each piece are written to the point
-  // arrays and kept (npt advanced) where half > 0 and defmid > 0; a skipped piece is overwritten
-  // by the next one or by the padding: 8 points with om = 0, which contribute exact zeros.
-  constexpr int MAXPT = 4 * 27 + 8;    // pieces: at most 26 (28 entries in pts)
-  alignas(64) double pxi[MAXPT], pom[MAXPT], pdf[MAXPT];
-  alignas(64) double pfa1[MAXPT], pfb1[MAXPT], pfa2[MAXPT], pfb2[MAXPT];
+  // First pass, over the intervals between the break points in chunks of 8 (vectorised; padded
+  // with empty intervals at hi). The weight W = clamp(min(wa, wb), 0, 1) of a segment (wa =
+  // 1/2 + s / 2e, wb = 1/2 + (l - s) / 2e: weight_regime and weight_in without their branches)
+  // is linear on each interval, so is the deficit 1 - W1 - W2: the piece of the interval where
+  // it is positive (split at its zero where it changes sign) is the piece integrated. The
+  // regimes of the two weights at the middle of the piece give the sign sigma_k of the slope of
+  // W_k in s_k (+1: the ramp at the first node of segment k, -1: at its second, 0: none) and
+  // the deficit on the piece, defmid + dsl (xi - mid). The piece is kept where half > 0 and
+  // defmid > 0.
+  constexpr int MAXPC = 16;    // intervals: at most 13, padded to chunks of 8
+  const int npc = nb - 1, npcp = (npc + 7) & ~7, nbp = (nb + 7) & ~7;
+  for (int i = 0; i < 8; i++) brk[nb + i] = hi;
+  // the deficit at the break points (one past the last chunk for the padded intervals)
+  alignas(64) double dv[MAXPC + 1];
+  for (int c = 0; c < nbp; c += 8) {
+    for (int j = 0; j < 8; j++) {
+      const double s1 = s10 + s11 * brk[c + j], s2 = s20 + s21 * brk[c + j];
+      const double w1 = std::min(0.5 + s1 * inv2e, 0.5 + (l1 - s1) * inv2e);
+      const double w2 = std::min(0.5 + s2 * inv2e, 0.5 + (l2 - s2) * inv2e);
+      dv[c + j] = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
+          DEFICIT_TOL;    // round-off of straight chains
+    }
+  }
+  dv[nbp] = 0.0;
+  alignas(64) double cmid[MAXPC], chalf[MAXPC], cdef[MAXPC], cdsl[MAXPC], ckeep[MAXPC];
+  alignas(64) double csg1[MAXPC], csg2[MAXPC];
+  for (int c = 0; c < npcp; c += 8) {
+    for (int j = 0; j < 8; j++) {
+      const int k = c + j;
+      const double a = brk[k], b = brk[k + 1], fa = dv[k], fb = dv[k + 1];
+      const double x = std::min(b, std::max(a, a + (b - a) * fa / (fa - fb)));
+      const double pa = (fa < 0.0) & (fb > 0.0) ? x : a, pb = (fa > 0.0) & (fb < 0.0) ? x : b;
+      const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
+      const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
+      const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
+      const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
+      const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
+      // (wa <= wb: the ramp at the first node, +1; at the second, -1)
+      const double sg1 = (w1 > 0.0) & (w1 < 1.0) ? std::copysign(1.0, wb1 - wa1) : 0.0;
+      const double sg2 = (w2 > 0.0) & (w2 < 1.0) ? std::copysign(1.0, wb2 - wa2) : 0.0;
+      const double defmid =
+          1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) - DEFICIT_TOL;
+      cmid[k] = mid;
+      chalf[k] = half;
+      cdef[k] = defmid;
+      cdsl[k] = -(sg1 * s11 + sg2 * s21) * inv2e;
+      ckeep[k] = (half > 0.0) & (defmid > 0.0) ? 1.0 : 0.0;
+      csg1[k] = sg1;
+      csg2[k] = sg2;
+    }
+  }
+  // The four Gauss points of each kept piece, written to the point arrays (a piece not kept is
+  // overwritten by the next one or by the padding: 8 points with om = 0, exact zeros)
+  constexpr int MAXPT = 4 * 13 + 8;
+  alignas(64) double pxi[MAXPT], pom[MAXPT], pdf[MAXPT], psg1[MAXPT], psg2[MAXPT];
   int npt = 0;
-  for (int k = 0; k + 1 < np; k++) {
-    const double half = 0.5 * (pts[k + 1] - pts[k]);
-    const double mid = 0.5 * (pts[k + 1] + pts[k]);
-    const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
-    // W = clamp(min(wa, wb), 0, 1) (weight_regime and weight_in without their branches)
-    const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
-    const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
-    const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
-    const bool ramp1 = (w1 > 0.0) & (w1 < 1.0), ramp2 = (w2 > 0.0) & (w2 < 1.0);
-    const bool first1 = wa1 <= wb1, first2 = wa2 <= wb2;
-    const double fa1 = ramp1 & first1 ? 1.0 : 0.0, fb1 = ramp1 & !first1 ? 1.0 : 0.0;
-    const double fa2 = ramp2 & first2 ? 1.0 : 0.0, fb2 = ramp2 & !first2 ? 1.0 : 0.0;
-    const double defmid =
-        1.0 - clamp01(w1) - clamp01(w2) - DEFICIT_TOL;    // round-off of straight chains
-    const double dsl = ((fb1 - fa1) * s11 + (fb2 - fa2) * s21) * inv2e;
+  for (int k = 0; k < npc; k++) {
+    const double mid = cmid[k], half = chalf[k], def = cdef[k], dsl = cdsl[k];
+    const double sg1 = csg1[k], sg2 = csg2[k];
     for (int qd = 0; qd < 4; qd++) {
       const double y = half * gx[qd];
       pxi[npt + qd] = mid + y;
       pom[npt + qd] = half * gw[qd];
-      pdf[npt + qd] = defmid + dsl * y;
-      pfa1[npt + qd] = fa1;
-      pfb1[npt + qd] = fb1;
-      pfa2[npt + qd] = fa2;
-      pfb2[npt + qd] = fb2;
+      pdf[npt + qd] = def + dsl * y;
+      psg1[npt + qd] = sg1;
+      psg2[npt + qd] = sg2;
     }
-    npt += (half > 0.0) & (defmid > 0.0) ? 4 : 0;
+    npt += ckeep[k] > 0.0 ? 4 : 0;
   }
-  for (int i = 0; i < 8; i++) {
-    pxi[npt + i] = pom[npt + i] = pdf[npt + i] = 0.0;
-    pfa1[npt + i] = pfb1[npt + i] = pfa2[npt + i] = pfb2[npt + i] = 0.0;
-  }
-  const int nptp = (npt + 7) & ~7;
+  // no deficit anywhere (a straight or nearly straight chain, or A on the concave side): no cap
+  if (npt == 0) return out;
+  for (int i = 0; i < 8; i++)
+    pxi[npt + i] = pom[npt + i] = pdf[npt + i] = psg1[npt + i] = psg2[npt + i] = 0.0;
 
   // Second pass, over the points in chunks of 8 with one accumulator per lane for each moment:
   // the lane loop vectorises without reassociating any sum, and every instruction set computes
-  // the same operations in the same order (the same bits). |x - n|^2 from the point of A's line
-  // closest to n (no cancellation); the core's term vanishes by itself outside the core (the
-  // pieces lie either inside or outside it: its boundary is a break point).
-  const double la2 = la * la, xc = -dot(w0, da) / la2, rc2 = norm2(w0 + xc * da);
+  // the same operations in the same order (the same bits). On a piece the integrand is one
+  // polynomial: with x = a0 + xi da, rn = x - n = w0 + xi da and the offsets
+  // r1 = R10 + xi R11, r2 = R20 + xi R21 of x from the two lines, the gradient is a sum of
+  // scalar moments times these vectors. Per point: alpha = om hd dd, beta_k = om ddp W_k'
+  // (= sigma_k om ddp / 2e), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh); summed:
+  // alpha (1, xi, xi^2), eps, and per segment sigma om ddp (1, xi) and sigma^2 om ddp, which
+  // give the ramp moments at its two nodes. |x - n|^2 from the point of A's line closest to n
+  // (no cancellation); the core's term vanishes by itself outside the core (the pieces lie
+  // inside or outside it: its boundary is a break point).
+  const double xc = -0.5 * qb / la2, rc2 = norm2(w0 + xc * da);
   const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
   const double kh = 0.5 * kap, kd = kap * prof.invc;
-  double sA0[8] = {}, sA1[8] = {}, sA2[8] = {}, sE0[8] = {};
-  double sB1a[8] = {}, sB1b[8] = {}, sS1x[8] = {}, sB2a[8] = {}, sB2b[8] = {}, sS2x[8] = {};
-  for (int c = 0; c < nptp; c += 8) {
+  constexpr int NM = 10;    // A0, A1, A2, E0, S1, Q1, S1x, S2, Q2, S2x
+  auto point = [&](int i, double *v) {
+    const double xi = pxi[i], t = xi - xc;
+    const double r2 = rc2 + la2 * (t * t);
+    // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
+    const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
+    const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+    const double hh = 0.5 * h * h + kh * hc * hc;
+    const double hd = h * prof.invd + kd * hc;
+    // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
+    // through straight (the deficit grows like the kink angle)
+    const double def = std::max(0.0, pdf[i]);
+    const double od = pom[i] * def, odd = od * def;
+    const double al = odd * hd, bt = od * hh;    // alpha; om ddp / 2
+    const double ax = al * xi, bx = bt * xi;
+    const double sb1 = psg1[i] * bt, sb2 = psg2[i] * bt;
+    v[0] = al;
+    v[1] = ax;
+    v[2] = ax * xi;
+    v[3] = odd * hh;
+    v[4] = sb1;
+    v[5] = psg1[i] * sb1;
+    v[6] = psg1[i] * bx;
+    v[7] = sb2;
+    v[8] = psg2[i] * sb2;
+    v[9] = psg2[i] * bx;
+  };
+  alignas(64) double acc[NM][8];
+  for (int j = 0; j < 8; j++) {
+    double v[NM];
+    point(j, v);
+    for (int m = 0; m < NM; m++) acc[m][j] = v[m];
+  }
+  for (int c = 8; c < npt; c += 8) {
     for (int j = 0; j < 8; j++) {
-      const int i = c + j;
-      const double xi = pxi[i], t = xi - xc;
-      const double r2 = rc2 + la2 * (t * t);
-      // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-      const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
-      const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
-      const double hh = 0.5 * h * h + kh * hc * hc;
-      const double hd = h * prof.invd + kd * hc;
-      // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
-      // through straight (the deficit grows like the kink angle)
-      const double def = std::max(0.0, pdf[i]);
-      const double od = pom[i] * def, odd = od * def;
-      const double al = odd * hd, bt = od * hh;    // alpha; beta / (2 inv2e)
-      const double ax = al * xi, bx = bt * xi;
-      sA0[j] += al;
-      sA1[j] += ax;
-      sA2[j] += ax * xi;
-      sE0[j] += odd * hh;
-      sB1a[j] += pfa1[i] * bt;
-      sB1b[j] += pfb1[i] * bt;
-      sS1x[j] += (pfa1[i] - pfb1[i]) * bx;
-      sB2a[j] += pfa2[i] * bt;
-      sB2b[j] += pfb2[i] * bt;
-      sS2x[j] += (pfa2[i] - pfb2[i]) * bx;
+      double v[NM];
+      point(c + j, v);
+      for (int m = 0; m < NM; m++) acc[m][j] += v[m];
     }
   }
-  // the lanes summed in a fixed order; the ramp moments: beta = om ddp / 2e where a ramp acts,
-  // sigma_k beta summed (S1 = B1a - B1b) and per node of the ramp (B1a, B1b)
-  auto lanes = [](const double *s) {
-    return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
-  };
-  const double rs = 2.0 * inv2e;
-  const double A0 = lanes(sA0), A1 = lanes(sA1), A2 = lanes(sA2), E0 = lanes(sE0);
-  const double B1a = rs * lanes(sB1a), B1b = rs * lanes(sB1b), S1x = rs * lanes(sS1x);
-  const double B2a = rs * lanes(sB2a), B2b = rs * lanes(sB2b), S2x = rs * lanes(sS2x);
-  const double S1 = B1a - B1b, S2 = B2a - B2b;
-  const double K = kn * la, energy = K * E0;
-  Vec3 g[5];
-  const Vec3 lpart = (kn * E0) * ea;
-  const Vec3 r1m = (1.0 / l1) * (S1 * R10 + S1x * R11);    // sum sigma1 beta1 r1 / l1
-  const Vec3 r2m = (1.0 / l2) * (S2 * R20 + S2x * R21);    // sum sigma2 beta2 r2 / l2
-  g[0] = K * (-((A0 - A1) * w0 + (A1 - A2) * da) - (S1 - S1x) * e1 - (S2 - S2x) * e2) - lpart;
-  g[1] = K * (-(A1 * w0 + A2 * da) - S1x * e1 - S2x * e2) + lpart;
-  g[2] = K * (B1a * e1 + r1m);
-  g[3] = K * (A0 * w0 + A1 * da - B1b * e1 - r1m + B2a * e2 + r2m);
-  g[4] = K * (-B2b * e2 - r2m);
+  // the lanes summed in a fixed order (written so that it vectorises per moment)
+  double t4[NM][4], t2[NM][2], mom[NM];
+  for (int m = 0; m < NM; m++)
+    for (int j = 0; j < 4; j++) t4[m][j] = acc[m][j] + acc[m][j + 4];
+  for (int m = 0; m < NM; m++)
+    for (int j = 0; j < 2; j++) t2[m][j] = t4[m][j] + t4[m][j + 2];
+  for (int m = 0; m < NM; m++) mom[m] = t2[m][0] + t2[m][1];
+  const double A0 = mom[0], A1 = mom[1], A2 = mom[2], E0 = mom[3];
+  const double energy = kn * la * E0;
   if (!(energy > 0.0)) return out;
+
+  // The forces -dE/dx (K = kn la): through rn (the distance from n), through the ramp variables
+  // of the two segments and through la. The ramp moments carry the factor 2 of ddp and the ramp
+  // slope 1/2e: sum sigma beta (S), its xi moment (Sx) and beta at the ramp at p (B1a =
+  // (Q1 + S1) / 2) and at q (B2b = (Q2 - S2) / 2). The offsets r1 = R10 + xi R11 of the points of
+  // A from the line of segment 1 (R10 = (a0 - p) - s10 e1, R11 = da - s11 e1) and r2 (R20 =
+  // w0 - s20 e2, R21 = da - s21 e2) enter the forces on p and q as sum sigma beta r / l, here
+  // expanded in a0 - p (or w0), da and e1 (e2). The force on n balances the other four (the
+  // energy depends on distances only).
+  const double K = kn * la, kr = K * (2.0 * inv2e), lp = kn * E0 / la;
+  const double S1 = kr * mom[4], S1x = kr * mom[6], B1a = 0.5 * (kr * mom[5] + S1);
+  const double S2 = kr * mom[7], S2x = kr * mom[9], B2b = 0.5 * (kr * mom[8] - S2);
+  const double c1a = S1 * il1, c1d = S1x * il1, c1e = B1a - (S1 * s10 + S1x * s11) * il1;
+  const double c2w = S2 * il2, c2d = S2x * il2, c2e = B2b - (S2 * s20 + S2x * s21) * il2;
   out.active = true;
   out.energy = energy;
-  for (int k = 0; k < 5; k++) out.f[k] = -g[k];
-  out.penetration = std::max(0.0, dc - std::sqrt(point_segment_dist2(a0, a1, n)));
+  out.f[0] = (K * (A0 - A1)) * w0 + (K * (A1 - A2) + lp) * da + (S1 - S1x) * e1 + (S2 - S2x) * e2;
+  out.f[1] = (K * A1) * w0 + (K * A2 - lp) * da + S1x * e1 + S2x * e2;
+  out.f[2] = -(c1a * ap + c1d * da + c1e * e1);
+  out.f[4] = c2w * w0 + c2d * da + c2e * e2;
+  out.f[3] = -(out.f[0] + out.f[1] + out.f[2] + out.f[4]);
+  // penetration: D - the distance of n from segment A (point_segment_dist2)
+  const double xs = clamp01(xc);
+  out.penetration = std::max(0.0, dc - std::sqrt(norm2(w0 + xs * da)));
   return out;
 }
 
