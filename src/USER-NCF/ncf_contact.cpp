@@ -98,11 +98,6 @@ namespace {
   {
     return reg == 3 ? 1.0 : (reg == 0 ? 0.0 : (reg == 1 ? 0.5 + s * inv2e : 0.5 + (l - s) * inv2e));
   }
-  inline double weight_value(double s, double l, double e)
-  {
-    const double inv2e = 0.5 / e;
-    return weight_in(weight_regime(s, l, inv2e), s, l, inv2e);
-  }
 
   // Break points of the piecewise polynomial integrands come as short lists that are each
   // already in order, so they are merged instead of sorted (a sort of random values mispredicts
@@ -424,33 +419,38 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   const double s10 = dot(ap, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
   // The break points: the corners of the two weights (in increasing arc position: -e, e, l/2,
-  // l - e, l + e, or -e, l - e, l/2, e, l + e for a segment shorter than 2e), then the core's
-  // boundary |x - n| = D_c: three increasing lists of the points inside (lo, hi), merged
-  // (without branches that depend on the values: a kink of a few degrees puts the corners of
-  // the two weights at n close together, in either order)
+  // l - e, l + e, or -e, l - e, l/2, e, l + e for a segment shorter than 2e; reversed where s
+  // decreases along A; none where s is constant along A: there the factor 0 puts them all at
+  // xi = 0, not inside (lo, hi)), then the core's boundary |x - n| = D_c: three increasing lists
+  // of the points inside (lo, hi), merged without branches that depend on the values (a kink of
+  // a few degrees puts the corners of the two weights at n close together, in either order)
   constexpr double BIG = 1e300;
-  auto line_corners = [e, lo, hi, la](double l, double s0, double s1, double *out) {
-    if (!(std::fabs(s1) > 1e-14 * la)) return 0;
-    const double c[5] = {-e, std::min(e, l - e), 0.5 * l, std::max(e, l - e), l + e};
-    const double inv_s1 = 1.0 / s1;
-    const int k0 = inv_s1 > 0.0 ? 0 : 4, dk = inv_s1 > 0.0 ? 1 : -1;
-    int nout = 0;
-    for (int k = 0; k < 5; k++) {
-      const double x = (c[k0 + dk * k] - s0) * inv_s1;
-      out[nout] = x;
-      nout += (x > lo) & (x < hi);
-    }
-    return nout;
-  };
+  const bool up1 = s11 > 0.0, up2 = s21 > 0.0;
+  const double i11 = std::fabs(s11) > 1e-14 * la ? 1.0 / s11 : 0.0;
+  const double i21 = std::fabs(s21) > 1e-14 * la ? 1.0 / s21 : 0.0;
+  const double lo1 = std::min(e, l1 - e), hi1 = std::max(e, l1 - e);
+  const double lo2 = std::min(e, l2 - e), hi2 = std::max(e, l2 - e);
+  const double cs[10] = {up1 ? -e : l1 + e, up1 ? lo1 : hi1,   0.5 * l1,        up1 ? hi1 : lo1,
+                         up1 ? l1 + e : -e, up2 ? -e : l2 + e, up2 ? lo2 : hi2, 0.5 * l2,
+                         up2 ? hi2 : lo2,   up2 ? l2 + e : -e};
+  double xs[10];
+  for (int k = 0; k < 10; k++) xs[k] = (cs[k] - (k < 5 ? s10 : s20)) * (k < 5 ? i11 : i21);
   double b1[6], b2[6], kb[3];
-  const int n1 = line_corners(l1, s10, s11, b1), n2 = line_corners(l2, s20, s21, b2);
+  int n1 = 0, n2 = 0, nk = 0;
+  for (int k = 0; k < 5; k++) {
+    b1[n1] = xs[k];
+    n1 += (xs[k] > lo) & (xs[k] < hi);
+    b2[n2] = xs[k + 5];
+    n2 += (xs[k + 5] > lo) & (xs[k + 5] < hi);
+  }
   const Profile prof(dc, core);
-  int nk = 0;
   prof.core_breaks(la2, qb, qc, 1e-28 * la2, lo, hi, kb, nk);
   b1[n1] = b2[n2] = kb[nk] = BIG;
-  double brk[14 + 8];    // lo, at most 12 break points, hi; padding (below)
-  int nb = 0;
-  brk[nb++] = lo;
+  // lo, at most 12 break points, hi; the rest hi (the intervals are padded to chunks of 8)
+  double brk[14 + 8];
+  for (int i = 0; i < 14 + 8; i++) brk[i] = hi;
+  brk[0] = lo;
+  int nb = 1;
   for (int m = 0, i1 = 0, i2 = 0, ik = 0; m < n1 + n2 + nk; m++) {
     const double x1 = b1[i1], x2 = b2[i2], xk = kb[ik];
     const bool t1 = (x1 <= x2) & (x1 <= xk), t2 = !t1 & (x2 <= xk);
@@ -459,7 +459,7 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
     i2 += t2;
     ik += !t1 & !t2;
   }
-  brk[nb++] = hi;
+  nb++;    // hi
 
   // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
   static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
@@ -467,135 +467,92 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                0.3478548451374538};
   const double inv2e = 0.5 / e;
+  // |x - n|^2 from the point of A's line closest to n (no cancellation)
+  const double xc = -0.5 * qb / la2, rc2 = norm2(w0 + xc * da);
+  const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
+  const double kh = 0.5 * kap, kd = kap * prof.invc;
 
-  // First pass, over the intervals between the break points in chunks of 8 (vectorised; padded
-  // with empty intervals at hi). The weight W = clamp(min(wa, wb), 0, 1) of a segment (wa =
-  // 1/2 + s / 2e, wb = 1/2 + (l - s) / 2e: weight_regime and weight_in without their branches)
-  // is linear on each interval, so is the deficit 1 - W1 - W2: the piece of the interval where
-  // it is positive (split at its zero where it changes sign) is the piece integrated. The
-  // regimes of the two weights at the middle of the piece give the sign sigma_k of the slope of
-  // W_k in s_k (+1: the ramp at the first node of segment k, -1: at its second, 0: none) and
-  // the deficit on the piece, defmid + dsl (xi - mid). The piece is kept where half > 0 and
-  // defmid > 0.
-  constexpr int MAXPC = 16;    // intervals: at most 13, padded to chunks of 8
-  const int npc = nb - 1, npcp = (npc + 7) & ~7, nbp = (nb + 7) & ~7;
-  for (int i = 0; i < 8; i++) brk[nb + i] = hi;
-  // the deficit at the break points (one past the last chunk for the padded intervals)
-  alignas(64) double dv[MAXPC + 1];
-  for (int c = 0; c < nbp; c += 8) {
+  // One pass over the intervals between the break points, in chunks of 8 (one lane each,
+  // vectorised; padded with empty intervals at hi), without branches:
+  //
+  // The weight W = clamp(min(wa, wb), 0, 1) of a segment (wa = 1/2 + s / 2e, wb = 1/2 +
+  // (l - s) / 2e: weight_regime and weight_in without their branches) is linear on each
+  // interval, and so is the deficit 1 - W1 - W2. The regimes of the two weights at the middle of
+  // the interval give the sign sigma_k of the slope of W_k in s_k (+1: the ramp at the first node
+  // of segment k, -1: at its second, 0: none), the deficit there and its slope. The piece
+  // integrated is the part of the interval where the deficit is positive (split at its zero
+  // where it changes sign), if half > 0 and the deficit at its middle defmid > 0 (else its
+  // weights om are 0).
+  //
+  // On a piece the integrand is one polynomial (the core is in or out: its boundary is a break
+  // point): with x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11,
+  // r2 = R20 + xi R21 of x from the two lines, the gradient is a sum of scalar moments times
+  // these vectors. Per Gauss point: alpha = om hd dd, beta_k = om ddp W_k' (= sigma_k om ddp /
+  // 2e), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh). Summed over the piece's points:
+  // alpha (1, xi, xi^2), eps, om ddp / 2 (1, xi); times sigma_k (and sigma_k^2) per piece they
+  // give the ramp moments. Each lane accumulates its pieces; the lanes are summed in a fixed
+  // order at the end, so that every instruction set computes the same operations in the same
+  // order (the same bits; no reassociation needed to vectorise). (Lanes over the pieces rather
+  // than over the Gauss points: no point arrays written and read back, which cost more time
+  // than the lanes left empty.)
+  const int npc = nb - 1, npcp = (npc + 7) & ~7;    // at most 13 intervals
+  constexpr int NM = 10;                            // A0, A1, A2, E0, S1, Q1, S1x, S2, Q2, S2x
+  alignas(64) double acc[NM][8];
+  // (the first chunk sets the accumulators, the others add to them)
+  auto chunk = [&](int c, bool first) __attribute__((always_inline))
+  {
     for (int j = 0; j < 8; j++) {
-      const double s1 = s10 + s11 * brk[c + j], s2 = s20 + s21 * brk[c + j];
-      const double w1 = std::min(0.5 + s1 * inv2e, 0.5 + (l1 - s1) * inv2e);
-      const double w2 = std::min(0.5 + s2 * inv2e, 0.5 + (l2 - s2) * inv2e);
-      dv[c + j] = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
-          DEFICIT_TOL;    // round-off of straight chains
-    }
-  }
-  dv[nbp] = 0.0;
-  alignas(64) double cmid[MAXPC], chalf[MAXPC], cdef[MAXPC], cdsl[MAXPC], ckeep[MAXPC];
-  alignas(64) double csg1[MAXPC], csg2[MAXPC];
-  for (int c = 0; c < npcp; c += 8) {
-    for (int j = 0; j < 8; j++) {
-      const int k = c + j;
-      const double a = brk[k], b = brk[k + 1], fa = dv[k], fb = dv[k + 1];
-      const double x = std::min(b, std::max(a, a + (b - a) * fa / (fa - fb)));
-      const double pa = (fa < 0.0) & (fb > 0.0) ? x : a, pb = (fa > 0.0) & (fb < 0.0) ? x : b;
-      const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
-      const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
+      const double a = brk[c + j], b = brk[c + j + 1];
+      const double hf = 0.5 * (b - a), mf = 0.5 * (b + a);
+      // the regimes of the two weights on the interval (at its middle) and the deficit there
+      const double s1m = s10 + s11 * mf, s2m = s20 + s21 * mf;
       const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
       const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
       const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
       // (wa <= wb: the ramp at the first node, +1; at the second, -1)
       const double sg1 = (w1 > 0.0) & (w1 < 1.0) ? std::copysign(1.0, wb1 - wa1) : 0.0;
       const double sg2 = (w2 > 0.0) & (w2 < 1.0) ? std::copysign(1.0, wb2 - wa2) : 0.0;
-      const double defmid =
-          1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) - DEFICIT_TOL;
-      cmid[k] = mid;
-      chalf[k] = half;
-      cdef[k] = defmid;
-      cdsl[k] = -(sg1 * s11 + sg2 * s21) * inv2e;
-      ckeep[k] = (half > 0.0) & (defmid > 0.0) ? 1.0 : 0.0;
-      csg1[k] = sg1;
-      csg2[k] = sg2;
+      const double dm = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
+          DEFICIT_TOL;    // round-off of straight chains
+      const double dsl = -(sg1 * s11 + sg2 * s21) * inv2e;
+      // its positive part: the piece, split at the zero where the deficit changes sign
+      const double fa = dm - dsl * hf, fb = dm + dsl * hf;
+      const double x = std::min(b, std::max(a, mf - dm / dsl));
+      const double pa = (fa < 0.0) & (fb > 0.0) ? x : a, pb = (fa > 0.0) & (fb < 0.0) ? x : b;
+      const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
+      const double defmid = dm + dsl * (mid - mf);
+      const double hw = (half > 0.0) & (defmid > 0.0) ? half : 0.0;    // om = hw gw
+      double sal = 0.0, sax = 0.0, saxx = 0.0, seps = 0.0, sbt = 0.0, sbx = 0.0;
+      for (int qd = 0; qd < 4; qd++) {
+        const double y = half * gx[qd], xi = mid + y, t = xi - xc;
+        const double r2 = rc2 + la2 * (t * t);
+        // energy density hh of the node's sphere (with the core; its term vanishes by itself
+        // outside the core) and hd = -2 d(hh)/d(r^2)
+        const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
+        const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+        const double hh = 0.5 * h * h + kh * hc * hc;
+        const double hd = h * prof.invd + kd * hc;
+        // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
+        // through straight (the deficit grows like the kink angle)
+        const double def = std::max(0.0, defmid + dsl * y);
+        const double od = (hw * gw[qd]) * def, odd = od * def;
+        const double al = odd * hd, bt = od * hh;    // alpha; om ddp / 2
+        const double ax = al * xi;
+        sal += al;
+        sax += ax;
+        saxx += ax * xi;
+        seps += odd * hh;
+        sbt += bt;
+        sbx += bt * xi;
+      }
+      const double sb1 = sg1 * sbt, sb2 = sg2 * sbt;
+      const double v[NM] = {sal,       sax,       saxx, seps,      sb1,
+                            sg1 * sb1, sg1 * sbx, sb2,  sg2 * sb2, sg2 * sbx};
+      for (int m = 0; m < NM; m++) acc[m][j] = first ? v[m] : acc[m][j] + v[m];
     }
-  }
-  // The four Gauss points of each kept piece, written to the point arrays (a piece not kept is
-  // overwritten by the next one or by the padding: 8 points with om = 0, exact zeros)
-  constexpr int MAXPT = 4 * 13 + 8;
-  alignas(64) double pxi[MAXPT], pom[MAXPT], pdf[MAXPT], psg1[MAXPT], psg2[MAXPT];
-  int npt = 0;
-  for (int k = 0; k < npc; k++) {
-    const double mid = cmid[k], half = chalf[k], def = cdef[k], dsl = cdsl[k];
-    const double sg1 = csg1[k], sg2 = csg2[k];
-    for (int qd = 0; qd < 4; qd++) {
-      const double y = half * gx[qd];
-      pxi[npt + qd] = mid + y;
-      pom[npt + qd] = half * gw[qd];
-      pdf[npt + qd] = def + dsl * y;
-      psg1[npt + qd] = sg1;
-      psg2[npt + qd] = sg2;
-    }
-    npt += ckeep[k] > 0.0 ? 4 : 0;
-  }
-  // no deficit anywhere (a straight or nearly straight chain, or A on the concave side): no cap
-  if (npt == 0) return out;
-  for (int i = 0; i < 8; i++)
-    pxi[npt + i] = pom[npt + i] = pdf[npt + i] = psg1[npt + i] = psg2[npt + i] = 0.0;
-
-  // Second pass, over the points in chunks of 8 with one accumulator per lane for each moment:
-  // the lane loop vectorises without reassociating any sum, and every instruction set computes
-  // the same operations in the same order (the same bits). On a piece the integrand is one
-  // polynomial: with x = a0 + xi da, rn = x - n = w0 + xi da and the offsets
-  // r1 = R10 + xi R11, r2 = R20 + xi R21 of x from the two lines, the gradient is a sum of
-  // scalar moments times these vectors. Per point: alpha = om hd dd, beta_k = om ddp W_k'
-  // (= sigma_k om ddp / 2e), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh); summed:
-  // alpha (1, xi, xi^2), eps, and per segment sigma om ddp (1, xi) and sigma^2 om ddp, which
-  // give the ramp moments at its two nodes. |x - n|^2 from the point of A's line closest to n
-  // (no cancellation); the core's term vanishes by itself outside the core (the pieces lie
-  // inside or outside it: its boundary is a break point).
-  const double xc = -0.5 * qb / la2, rc2 = norm2(w0 + xc * da);
-  const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
-  const double kh = 0.5 * kap, kd = kap * prof.invc;
-  constexpr int NM = 10;    // A0, A1, A2, E0, S1, Q1, S1x, S2, Q2, S2x
-  auto point = [&](int i, double *v) {
-    const double xi = pxi[i], t = xi - xc;
-    const double r2 = rc2 + la2 * (t * t);
-    // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-    const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
-    const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
-    const double hh = 0.5 * h * h + kh * hc * hc;
-    const double hd = h * prof.invd + kd * hc;
-    // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
-    // through straight (the deficit grows like the kink angle)
-    const double def = std::max(0.0, pdf[i]);
-    const double od = pom[i] * def, odd = od * def;
-    const double al = odd * hd, bt = od * hh;    // alpha; om ddp / 2
-    const double ax = al * xi, bx = bt * xi;
-    const double sb1 = psg1[i] * bt, sb2 = psg2[i] * bt;
-    v[0] = al;
-    v[1] = ax;
-    v[2] = ax * xi;
-    v[3] = odd * hh;
-    v[4] = sb1;
-    v[5] = psg1[i] * sb1;
-    v[6] = psg1[i] * bx;
-    v[7] = sb2;
-    v[8] = psg2[i] * sb2;
-    v[9] = psg2[i] * bx;
   };
-  alignas(64) double acc[NM][8];
-  for (int j = 0; j < 8; j++) {
-    double v[NM];
-    point(j, v);
-    for (int m = 0; m < NM; m++) acc[m][j] = v[m];
-  }
-  for (int c = 8; c < npt; c += 8) {
-    for (int j = 0; j < 8; j++) {
-      double v[NM];
-      point(c + j, v);
-      for (int m = 0; m < NM; m++) acc[m][j] += v[m];
-    }
-  }
+  chunk(0, true);
+  for (int c = 8; c < npcp; c += 8) chunk(c, false);
   // the lanes summed in a fixed order (written so that it vectorises per moment)
   double t4[NM][4], t2[NM][2], mom[NM];
   for (int m = 0; m < NM; m++)
@@ -628,8 +585,8 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   out.f[4] = c2w * w0 + c2d * da + c2e * e2;
   out.f[3] = -(out.f[0] + out.f[1] + out.f[2] + out.f[4]);
   // penetration: D - the distance of n from segment A (point_segment_dist2)
-  const double xs = clamp01(xc);
-  out.penetration = std::max(0.0, dc - std::sqrt(norm2(w0 + xs * da)));
+  const double xn = clamp01(xc);
+  out.penetration = std::max(0.0, dc - std::sqrt(norm2(w0 + xn * da)));
   return out;
 }
 
