@@ -510,18 +510,18 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
       const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
       const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
       // (wa <= wb: the ramp at the first node, +1; at the second, -1)
-      const double sg1 = (w1 > 0.0) & (w1 < 1.0) ? std::copysign(1.0, wb1 - wa1) : 0.0;
-      const double sg2 = (w2 > 0.0) & (w2 < 1.0) ? std::copysign(1.0, wb2 - wa2) : 0.0;
+      const double sg1 = ((w1 > 0.0) & (w1 < 1.0)) ? std::copysign(1.0, wb1 - wa1) : 0.0;
+      const double sg2 = ((w2 > 0.0) & (w2 < 1.0)) ? std::copysign(1.0, wb2 - wa2) : 0.0;
       const double dm = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
           DEFICIT_TOL;    // round-off of straight chains
       const double dsl = -(sg1 * s11 + sg2 * s21) * inv2e;
       // its positive part: the piece, split at the zero where the deficit changes sign
       const double fa = dm - dsl * hf, fb = dm + dsl * hf;
       const double x = std::min(b, std::max(a, mf - dm / dsl));
-      const double pa = (fa < 0.0) & (fb > 0.0) ? x : a, pb = (fa > 0.0) & (fb < 0.0) ? x : b;
+      const double pa = ((fa < 0.0) & (fb > 0.0)) ? x : a, pb = ((fa > 0.0) & (fb < 0.0)) ? x : b;
       const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
       const double defmid = dm + dsl * (mid - mf);
-      const double hw = (half > 0.0) & (defmid > 0.0) ? half : 0.0;    // om = hw gw
+      const double hw = ((half > 0.0) & (defmid > 0.0)) ? half : 0.0;    // om = hw gw
       double sal = 0.0, sax = 0.0, saxx = 0.0, seps = 0.0, sbt = 0.0, sbx = 0.0;
       for (int qd = 0; qd < 4; qd++) {
         const double y = half * gx[qd], xi = mid + y, t = xi - xc;
