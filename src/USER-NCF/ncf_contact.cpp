@@ -374,7 +374,8 @@ namespace {
 }    // namespace
 
 // Compiled for AVX-512, AVX2 and the x86-64 baseline, picked at run time (as the batched kernels):
-// the quadrature's point loop is vectorised, with the same operations (no FMA) in every version.
+// the quadrature's loop over the pieces is vectorised, with the same operations (no FMA) in every
+// version, which therefore give the same bits.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define NCF_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #else
