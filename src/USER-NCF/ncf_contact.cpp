@@ -98,11 +98,6 @@ namespace {
   {
     return reg == 3 ? 1.0 : (reg == 0 ? 0.0 : (reg == 1 ? 0.5 + s * inv2e : 0.5 + (l - s) * inv2e));
   }
-  inline double weight_value(double s, double l, double e)
-  {
-    const double inv2e = 0.5 / e;
-    return weight_in(weight_regime(s, l, inv2e), s, l, inv2e);
-  }
 
   // Break points of the piecewise polynomial integrands come as short lists that are each
   // already in order, so they are merged instead of sorted (a sort of random values mispredicts
@@ -378,23 +373,33 @@ namespace {
   constexpr double DEFICIT_TOL = 1e-9;
 }    // namespace
 
+// Compiled for AVX-512, AVX2 and the x86-64 baseline, picked at run time (as the batched kernels):
+// the quadrature's loop over the pieces is vectorised, with the same operations (no FMA) in every
+// version, which therefore give the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define NCF_TARGET_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#else
+#define NCF_TARGET_CLONES
+#endif
+NCF_TARGET_CLONES
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
                          const Vec3 &q, double dc, double kn, double ramp, double core)
 {
   NodeContact out;
   if (!(dc > 0.0) || !(ramp > 0.0)) return out;
   const Vec3 da = a1 - a0, u1 = n - p, u2 = q - n;
-  const double la = norm(da), l1 = norm(u1), l2 = norm(u2);
+  const double la2 = norm2(da), la = std::sqrt(la2), l1 = norm(u1), l2 = norm(u2);
   const double lmin = MIN_LENGTH * dc;
   if (!(la > lmin) || !(l1 > lmin) || !(l2 > lmin)) return out;
-  const Vec3 ea = (1.0 / la) * da, e1 = (1.0 / l1) * u1, e2 = (1.0 / l2) * u2;
+  const double il1 = 1.0 / l1, il2 = 1.0 / l2;
+  const Vec3 e1 = il1 * u1, e2 = il2 * u2;
   const double d2 = dc * dc, e = ramp;
 
   // |x(xi) - n|^2 < D^2 along A
   const Vec3 w0 = a0 - n;
+  const double qb = 2.0 * dot(w0, da), qc = norm2(w0);
   double lo, hi;
-  if (!negative_interval(norm2(da), 2.0 * dot(w0, da), norm2(w0) - d2, 1e-28 * la * la, lo, hi))
-    return out;
+  if (!negative_interval(la2, qb, qc - d2, 1e-28 * la2, lo, hi)) return out;
   lo = std::max(lo, 0.0);
   hi = std::min(hi, 1.0);
   if (!(hi > lo)) return out;
@@ -411,138 +416,178 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   }
 
   // arc positions on the two segments: s1 = (x - p).e1, s2 = (x - n).e2, linear in xi
-  const double s10 = dot(a0 - p, e1), s11 = dot(da, e1);
+  const Vec3 ap = a0 - p;
+  const double s10 = dot(ap, e1), s11 = dot(da, e1);
   const double s20 = dot(a0 - n, e2), s21 = dot(da, e2);
-  // the corners of the two weights (in increasing arc position: -e, e, l/2, l - e, l + e, or
-  // -e, l - e, l/2, e, l + e for a segment shorter than 2e), then the core's boundary
-  // |x - n| = D_c: three increasing lists, merged
-  double b1[5], b2[5], b12[10], kb[2];
-  int n1 = 0, n2 = 0, n12 = 0, nk = 0;
-  auto corners = [e](double l, double *c) {
-    c[0] = -e;
-    c[1] = std::min(e, l - e);
-    c[2] = 0.5 * l;
-    c[3] = std::max(e, l - e);
-    c[4] = l + e;
-  };
-  double c1[5], c2[5];
-  corners(l1, c1);
-  corners(l2, c2);
-  if (std::fabs(s11) > 1e-14 * la) line_breaks(c1, 5, s10, 1.0 / s11, lo, hi, b1, n1);
-  if (std::fabs(s21) > 1e-14 * la) line_breaks(c2, 5, s20, 1.0 / s21, lo, hi, b2, n2);
-  merge_breaks(b1, n1, b2, n2, b12, n12);
-  const Profile prof(dc, core);
-  prof.core_breaks(norm2(da), 2.0 * dot(w0, da), norm2(w0), 1e-28 * la * la, lo, hi, kb, nk);
-  double brk[14];
-  int nb = 0;
-  brk[nb++] = lo;
-  merge_breaks(b12, n12, kb, nk, brk, nb);
-  brk[nb++] = hi;
-  // the deficit 1 - W1 - W2 is linear on each piece: split where it changes sign
-  auto deficit = [&](double xi) {
-    const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-    return 1.0 - weight_value(s1, l1, e) - weight_value(s2, l2, e) - DEFICIT_TOL;
-  };
-  double pts[28];
-  int np = 0;
-  double fa = deficit(brk[0]), defmax = fa;
-  for (int k = 0; k + 1 < nb; k++) {
-    pts[np++] = brk[k];
-    const double fb = deficit(brk[k + 1]);
-    defmax = std::max(defmax, fb);
-    if ((fa > 0.0 && fb < 0.0) || (fa < 0.0 && fb > 0.0)) {
-      const double x = brk[k] + (brk[k + 1] - brk[k]) * fa / (fa - fb);
-      if (x > brk[k] && x < brk[k + 1]) pts[np++] = x;
-    }
-    fa = fb;
+  // The break points: the corners of the two weights (in increasing arc position: -e, e, l/2,
+  // l - e, l + e, or -e, l - e, l/2, e, l + e for a segment shorter than 2e; reversed where s
+  // decreases along A; none where s is constant along A: there the factor 0 puts them all at
+  // xi = 0, not inside (lo, hi)), then the core's boundary |x - n| = D_c: three increasing lists
+  // of the points inside (lo, hi), merged without branches that depend on the values (a kink of
+  // a few degrees puts the corners of the two weights at n close together, in either order)
+  constexpr double BIG = 1e300;
+  const bool up1 = s11 > 0.0, up2 = s21 > 0.0;
+  const double i11 = std::fabs(s11) > 1e-14 * la ? 1.0 / s11 : 0.0;
+  const double i21 = std::fabs(s21) > 1e-14 * la ? 1.0 / s21 : 0.0;
+  const double lo1 = std::min(e, l1 - e), hi1 = std::max(e, l1 - e);
+  const double lo2 = std::min(e, l2 - e), hi2 = std::max(e, l2 - e);
+  const double cs[10] = {up1 ? -e : l1 + e, up1 ? lo1 : hi1,   0.5 * l1,        up1 ? hi1 : lo1,
+                         up1 ? l1 + e : -e, up2 ? -e : l2 + e, up2 ? lo2 : hi2, 0.5 * l2,
+                         up2 ? hi2 : lo2,   up2 ? l2 + e : -e};
+  double xs[10];
+  for (int k = 0; k < 10; k++) xs[k] = (cs[k] - (k < 5 ? s10 : s20)) * (k < 5 ? i11 : i21);
+  double b1[6], b2[6], kb[3];
+  int n1 = 0, n2 = 0, nk = 0;
+  for (int k = 0; k < 5; k++) {
+    b1[n1] = xs[k];
+    n1 += (xs[k] > lo) & (xs[k] < hi);
+    b2[n2] = xs[k + 5];
+    n2 += (xs[k + 5] > lo) & (xs[k + 5] < hi);
   }
-  pts[np++] = brk[nb - 1];
-  // the deficit is linear between the break points: no deficit at any of them (a straight or
-  // nearly straight chain, or A on the concave side), no cap
-  if (!(defmax > 0.0)) return out;
+  const Profile prof(dc, core);
+  prof.core_breaks(la2, qb, qc, 1e-28 * la2, lo, hi, kb, nk);
+  b1[n1] = b2[n2] = kb[nk] = BIG;
+  // lo, at most 12 break points, hi; the rest hi (the intervals are padded to chunks of 8)
+  double brk[14 + 8];
+  for (int i = 0; i < 14 + 8; i++) brk[i] = hi;
+  brk[0] = lo;
+  int nb = 1;
+  for (int m = 0, i1 = 0, i2 = 0, ik = 0; m < n1 + n2 + nk; m++) {
+    const double x1 = b1[i1], x2 = b2[i2], xk = kb[ik];
+    const bool t1 = (x1 <= x2) & (x1 <= xk), t2 = !t1 & (x2 <= xk);
+    brk[nb++] = std::min(x1, std::min(x2, xk));
+    i1 += t1;
+    i2 += t2;
+    ik += !t1 & !t2;
+  }
+  nb++;    // hi
 
   // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
   static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
                                0.8611363115940526};
   static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
                                0.3478548451374538};
-  // On each piece the weights W1, W2 are each constant, zero or one ramp (branch taken at the
-  // middle of the piece) and the core is in or out, so the integrand is one polynomial: with
-  // x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11, r2 = R20 + xi R21
-  // of x from the two lines, the gradient is a sum of scalar moments times these vectors.
-  // Per point: alpha = om hd dd, beta_k = om ddp W_k' (ramp of segment k, sign sigma_k = +1 at
-  // its first node, -1 at its second), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh)
-  const Vec3 R10 = w0 + (n - p) - s10 * e1, R11 = da - s11 * e1;
-  const Vec3 R20 = w0 - s20 * e2, R21 = da - s21 * e2;
   const double inv2e = 0.5 / e;
-  double A0 = 0.0, A1 = 0.0, A2 = 0.0, E0 = 0.0;       // sum alpha (1, xi, xi^2); sum eps
-  double S1 = 0.0, S1x = 0.0, B1a = 0.0, B1b = 0.0;    // sum sigma1 beta1 (1, xi); beta1 per ramp
-  double S2 = 0.0, S2x = 0.0, B2a = 0.0, B2b = 0.0;    // the same for segment 2
-  for (int k = 0; k + 1 < np; k++) {
-    const double half = 0.5 * (pts[k + 1] - pts[k]);
-    if (!(half > 0.0)) continue;
-    const double mid = 0.5 * (pts[k + 1] + pts[k]);
-    const double s1m = s10 + s11 * mid, s2m = s20 + s21 * mid;
-    const int reg1 = weight_regime(s1m, l1, inv2e), reg2 = weight_regime(s2m, l2, inv2e);
-    const double defmid = 1.0 - weight_in(reg1, s1m, l1, inv2e) - weight_in(reg2, s2m, l2, inv2e) -
-        DEFICIT_TOL;    // round-off of straight chains
-    if (!(defmid > 0.0)) continue;
-    const bool incore = prof.in_core(norm2(w0 + mid * da));
-    double a0s = 0.0, a1s = 0.0, a2s = 0.0, es = 0.0, bs = 0.0, bx = 0.0;
-    for (int qd = 0; qd < 4; qd++) {
-      const double xi = mid + half * gx[qd];
-      const double om = half * gw[qd];
-      const double s1 = s10 + s11 * xi, s2 = s20 + s21 * xi;
-      const double def = std::max(
-          0.0, 1.0 - weight_in(reg1, s1, l1, inv2e) - weight_in(reg2, s2, l2, inv2e) - DEFICIT_TOL);
-      // energy density hh of the node's sphere (with the core) and hd = -2 d(hh)/d(r^2)
-      double hh, hd;
-      prof.at(norm2(w0 + xi * da), incore, hh, hd);
-      // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
-      // through straight (the deficit grows like the kink angle)
-      const double dd = def * def;
-      const double al = om * hd * dd, bt = om * 2.0 * def * hh * inv2e;
-      a0s += al;
-      a1s += al * xi;
-      a2s += al * xi * xi;
-      es += om * hh * dd;
-      bs += bt;
-      bx += bt * xi;
+  // |x - n|^2 from the point of A's line closest to n (no cancellation)
+  const double xc = -0.5 * qb / la2, rc2 = norm2(w0 + xc * da);
+  const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
+  const double kh = 0.5 * kap, kd = kap * prof.invc;
+
+  // One pass over the intervals between the break points, in chunks of 8 (one lane each,
+  // vectorised; padded with empty intervals at hi), without branches:
+  //
+  // The weight W = clamp(min(wa, wb), 0, 1) of a segment (wa = 1/2 + s / 2e, wb = 1/2 +
+  // (l - s) / 2e: weight_regime and weight_in without their branches) is linear on each
+  // interval, and so is the deficit 1 - W1 - W2. The regimes of the two weights at the middle of
+  // the interval give the sign sigma_k of the slope of W_k in s_k (+1: the ramp at the first node
+  // of segment k, -1: at its second, 0: none), the deficit there and its slope. The piece
+  // integrated is the part of the interval where the deficit is positive (split at its zero
+  // where it changes sign), if half > 0 and the deficit at its middle defmid > 0 (else its
+  // weights om are 0).
+  //
+  // On a piece the integrand is one polynomial (the core is in or out: its boundary is a break
+  // point): with x = a0 + xi da, rn = x - n = w0 + xi da and the offsets r1 = R10 + xi R11,
+  // r2 = R20 + xi R21 of x from the two lines, the gradient is a sum of scalar moments times
+  // these vectors. Per Gauss point: alpha = om hd dd, beta_k = om ddp W_k' (= sigma_k om ddp /
+  // 2e), eps = om hh dd (dd = deficit^2, ddp = 2 deficit hh). Summed over the piece's points:
+  // alpha (1, xi, xi^2), eps, om ddp / 2 (1, xi); times sigma_k (and sigma_k^2) per piece they
+  // give the ramp moments. Each lane accumulates its pieces; the lanes are summed in a fixed
+  // order at the end, so that every instruction set computes the same operations in the same
+  // order (the same bits; no reassociation needed to vectorise). (Lanes over the pieces rather
+  // than over the Gauss points: no point arrays written and read back, which cost more time
+  // than the lanes left empty.)
+  const int npc = nb - 1, npcp = (npc + 7) & ~7;    // at most 13 intervals
+  constexpr int NM = 10;                            // A0, A1, A2, E0, S1, Q1, S1x, S2, Q2, S2x
+  alignas(64) double acc[NM][8];
+  // (the first chunk sets the accumulators, the others add to them)
+  auto chunk = [&](int c, bool first) __attribute__((always_inline))
+  {
+    for (int j = 0; j < 8; j++) {
+      const double a = brk[c + j], b = brk[c + j + 1];
+      const double hf = 0.5 * (b - a), mf = 0.5 * (b + a);
+      // the regimes of the two weights on the interval (at its middle) and the deficit there
+      const double s1m = s10 + s11 * mf, s2m = s20 + s21 * mf;
+      const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
+      const double wa2 = 0.5 + s2m * inv2e, wb2 = 0.5 + (l2 - s2m) * inv2e;
+      const double w1 = std::min(wa1, wb1), w2 = std::min(wa2, wb2);
+      // (wa <= wb: the ramp at the first node, +1; at the second, -1)
+      const double sg1 = ((w1 > 0.0) & (w1 < 1.0)) ? std::copysign(1.0, wb1 - wa1) : 0.0;
+      const double sg2 = ((w2 > 0.0) & (w2 < 1.0)) ? std::copysign(1.0, wb2 - wa2) : 0.0;
+      const double dm = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
+          DEFICIT_TOL;    // round-off of straight chains
+      const double dsl = -(sg1 * s11 + sg2 * s21) * inv2e;
+      // its positive part: the piece, split at the zero where the deficit changes sign
+      const double fa = dm - dsl * hf, fb = dm + dsl * hf;
+      const double x = std::min(b, std::max(a, mf - dm / dsl));
+      const double pa = ((fa < 0.0) & (fb > 0.0)) ? x : a, pb = ((fa > 0.0) & (fb < 0.0)) ? x : b;
+      const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
+      const double defmid = dm + dsl * (mid - mf);
+      const double hw = ((half > 0.0) & (defmid > 0.0)) ? half : 0.0;    // om = hw gw
+      double sal = 0.0, sax = 0.0, saxx = 0.0, seps = 0.0, sbt = 0.0, sbx = 0.0;
+      for (int qd = 0; qd < 4; qd++) {
+        const double y = half * gx[qd], xi = mid + y, t = xi - xc;
+        const double r2 = rc2 + la2 * (t * t);
+        // energy density hh of the node's sphere (with the core; its term vanishes by itself
+        // outside the core) and hd = -2 d(hh)/d(r^2)
+        const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
+        const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
+        const double hh = 0.5 * h * h + kh * hc * hc;
+        const double hd = h * prof.invd + kd * hc;
+        // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
+        // through straight (the deficit grows like the kink angle)
+        const double def = std::max(0.0, defmid + dsl * y);
+        const double od = (hw * gw[qd]) * def, odd = od * def;
+        const double al = odd * hd, bt = od * hh;    // alpha; om ddp / 2
+        const double ax = al * xi;
+        sal += al;
+        sax += ax;
+        saxx += ax * xi;
+        seps += odd * hh;
+        sbt += bt;
+        sbx += bt * xi;
+      }
+      const double sb1 = sg1 * sbt, sb2 = sg2 * sbt;
+      const double v[NM] = {sal,       sax,       saxx, seps,      sb1,
+                            sg1 * sb1, sg1 * sbx, sb2,  sg2 * sb2, sg2 * sbx};
+      for (int m = 0; m < NM; m++) acc[m][j] = first ? v[m] : acc[m][j] + v[m];
     }
-    A0 += a0s;
-    A1 += a1s;
-    A2 += a2s;
-    E0 += es;
-    // the ramp moments (beta is the same for both segments: om ddp / 2e where a ramp acts)
-    if (reg1 == 1 || reg1 == 2) {
-      const double sg = reg1 == 1 ? 1.0 : -1.0;
-      S1 += sg * bs;
-      S1x += sg * bx;
-      (reg1 == 1 ? B1a : B1b) += bs;
-    }
-    if (reg2 == 1 || reg2 == 2) {
-      const double sg = reg2 == 1 ? 1.0 : -1.0;
-      S2 += sg * bs;
-      S2x += sg * bx;
-      (reg2 == 1 ? B2a : B2b) += bs;
-    }
-  }
-  const double K = kn * la, energy = K * E0;
-  Vec3 g[5];
-  const Vec3 lpart = (kn * E0) * ea;
-  const Vec3 r1m = (1.0 / l1) * (S1 * R10 + S1x * R11);    // sum sigma1 beta1 r1 / l1
-  const Vec3 r2m = (1.0 / l2) * (S2 * R20 + S2x * R21);    // sum sigma2 beta2 r2 / l2
-  g[0] = K * (-((A0 - A1) * w0 + (A1 - A2) * da) - (S1 - S1x) * e1 - (S2 - S2x) * e2) - lpart;
-  g[1] = K * (-(A1 * w0 + A2 * da) - S1x * e1 - S2x * e2) + lpart;
-  g[2] = K * (B1a * e1 + r1m);
-  g[3] = K * (A0 * w0 + A1 * da - B1b * e1 - r1m + B2a * e2 + r2m);
-  g[4] = K * (-B2b * e2 - r2m);
+  };
+  chunk(0, true);
+  for (int c = 8; c < npcp; c += 8) chunk(c, false);
+  // the lanes summed in a fixed order (written so that it vectorises per moment)
+  double t4[NM][4], t2[NM][2], mom[NM];
+  for (int m = 0; m < NM; m++)
+    for (int j = 0; j < 4; j++) t4[m][j] = acc[m][j] + acc[m][j + 4];
+  for (int m = 0; m < NM; m++)
+    for (int j = 0; j < 2; j++) t2[m][j] = t4[m][j] + t4[m][j + 2];
+  for (int m = 0; m < NM; m++) mom[m] = t2[m][0] + t2[m][1];
+  const double A0 = mom[0], A1 = mom[1], A2 = mom[2], E0 = mom[3];
+  const double energy = kn * la * E0;
   if (!(energy > 0.0)) return out;
+
+  // The forces -dE/dx (K = kn la): through rn (the distance from n), through the ramp variables
+  // of the two segments and through la. The ramp moments carry the factor 2 of ddp and the ramp
+  // slope 1/2e: sum sigma beta (S), its xi moment (Sx) and beta at the ramp at p (B1a =
+  // (Q1 + S1) / 2) and at q (B2b = (Q2 - S2) / 2). The offsets r1 = R10 + xi R11 of the points of
+  // A from the line of segment 1 (R10 = (a0 - p) - s10 e1, R11 = da - s11 e1) and r2 (R20 =
+  // w0 - s20 e2, R21 = da - s21 e2) enter the forces on p and q as sum sigma beta r / l, here
+  // expanded in a0 - p (or w0), da and e1 (e2). The force on n balances the other four (the
+  // energy depends on distances only).
+  const double K = kn * la, kr = K * (2.0 * inv2e), lp = kn * E0 / la;
+  const double S1 = kr * mom[4], S1x = kr * mom[6], B1a = 0.5 * (kr * mom[5] + S1);
+  const double S2 = kr * mom[7], S2x = kr * mom[9], B2b = 0.5 * (kr * mom[8] - S2);
+  const double c1a = S1 * il1, c1d = S1x * il1, c1e = B1a - (S1 * s10 + S1x * s11) * il1;
+  const double c2w = S2 * il2, c2d = S2x * il2, c2e = B2b - (S2 * s20 + S2x * s21) * il2;
   out.active = true;
   out.energy = energy;
-  for (int k = 0; k < 5; k++) out.f[k] = -g[k];
-  const ClosestPoints cp = closest_points_segments(a0, a1, n, n);
-  out.penetration = std::max(0.0, dc - std::sqrt(cp.dist2));
+  out.f[0] = (K * (A0 - A1)) * w0 + (K * (A1 - A2) + lp) * da + (S1 - S1x) * e1 + (S2 - S2x) * e2;
+  out.f[1] = (K * A1) * w0 + (K * A2 - lp) * da + S1x * e1 + S2x * e2;
+  out.f[2] = -(c1a * ap + c1d * da + c1e * e1);
+  out.f[4] = c2w * w0 + c2d * da + c2e * e2;
+  out.f[3] = -(out.f[0] + out.f[1] + out.f[2] + out.f[4]);
+  // penetration: D - the distance of n from segment A (point_segment_dist2)
+  const double xn = clamp01(xc);
+  out.penetration = std::max(0.0, dc - std::sqrt(norm2(w0 + xn * da)));
   return out;
 }
 

@@ -1,13 +1,16 @@
 // Unit tests of the engine-free contact law (ncf_contact.h): force = -dE/dx by finite
 // differences, force and moment balance, continuity from crossing to exactly parallel, parallel
 // contact proportional to the overlap length and independent of the mesh, no double counting at
-// shared nodes, degenerate cases finite, Coulomb slip spring.
+// shared nodes, degenerate cases finite, Coulomb slip spring; node caps at kinks, also against a
+// brute-force quadrature of their energy.
 
 #include "ncf_contact.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -420,4 +423,216 @@ TEST(NodeContact, KinkConvexSideIsCovered)
   EXPECT_GT(with, 0.9 * ref);
   EXPECT_LT(with, 1.1 * ref);
   EXPECT_LT(without, 0.5 * ref) << "the ramps alone leave the convex side of the kink uncovered";
+}
+
+// ---------------------------------------------------------------- node caps: brute force
+
+namespace {
+// An independent reference for node_contact: the energy (ncf_contact.h)
+//   E = (k_n / 2) * integral over A of max(0, 1 - W_pn - W_nq - tol)^2 (h_n^2 + kappa h_c^2) dx
+// evaluated point by point and integrated by composite Gauss-Legendre quadrature between the
+// points where the integrand is not smooth (found independently: where the weights have their
+// corners, where A crosses the spheres of radius D and D_c around n, and the zeros of the
+// deficit, by bisection), which makes it accurate to round-off; the forces from it by central
+// differences.
+constexpr double CAP_DEFICIT_TOL = 1e-9;    // the tolerance of the law (ncf_contact.cpp)
+
+// W of a segment of length l at arc position s: 1 on [e, l - e], 0 outside [-e, l + e], linear
+// ramps between (a tent below 1 if l < 2e)
+double cap_weight(double s, double l, double e)
+{
+  const double up = (s + e) / (2.0 * e), down = (l + e - s) / (2.0 * e);
+  return std::max(0.0, std::min(1.0, std::min(up, down)));
+}
+
+struct CapReference {
+  Vec3 a0, da, p, n, e1, e2;
+  double la, l1, l2, core;
+  explicit CapReference(const Vec3 x[5], double kappa) :
+      a0(x[0]), da(x[1] - x[0]), p(x[2]), n(x[3]), la(NCF::norm(x[1] - x[0])),
+      l1(NCF::norm(x[3] - x[2])), l2(NCF::norm(x[4] - x[3])), core(kappa)
+  {
+    e1 = (1.0 / l1) * (x[3] - x[2]);
+    e2 = (1.0 / l2) * (x[4] - x[3]);
+  }
+  double deficit(double xi) const
+  {
+    const Vec3 x = a0 + xi * da;
+    const double w1 = cap_weight(NCF::dot(x - p, e1), l1, RAMP);
+    const double w2 = cap_weight(NCF::dot(x - n, e2), l2, RAMP);
+    return 1.0 - w1 - w2 - CAP_DEFICIT_TOL;
+  }
+  // energy per unit length of A at A0 + xi (A1 - A0)
+  double density(double xi) const
+  {
+    const double def = std::max(0.0, deficit(xi));
+    const double r2 = NCF::norm2(a0 + xi * da - n), dcore = D / std::sqrt(3.0);
+    const double h = std::max(0.0, (D * D - r2) / (2.0 * D));
+    const double hc = std::max(0.0, (dcore * dcore - r2) / (2.0 * dcore));
+    return 0.5 * KN * def * def * (h * h + core * hc * hc);
+  }
+  // the roots of |a0 + xi da - n| = r
+  bool sphere(double r, double &x0, double &x1) const
+  {
+    const Vec3 w0 = a0 - n;
+    const double qa = NCF::norm2(da), qb = NCF::dot(w0, da), qc = NCF::norm2(w0) - r * r;
+    const double disc = qb * qb - qa * qc;
+    if (!(disc > 0.0)) return false;
+    x0 = (-qb - std::sqrt(disc)) / qa;
+    x1 = (-qb + std::sqrt(disc)) / qa;
+    return true;
+  }
+  double energy() const
+  {
+    double xa, xb;
+    if (!sphere(D, xa, xb)) return 0.0;
+    xa = std::max(0.0, xa);
+    xb = std::min(1.0, xb);
+    if (!(xb > xa)) return 0.0;
+    std::vector<double> br = {xa, xb};
+    auto add = [&](double x) {
+      if (x > xa && x < xb) br.push_back(x);
+    };
+    double c0, c1;
+    if (sphere(D / std::sqrt(3.0), c0, c1)) {
+      add(c0);
+      add(c1);
+    }
+    const Vec3 u[2] = {e1, e2}, o[2] = {p, n};
+    const double l[2] = {l1, l2};
+    for (int k = 0; k < 2; k++) {
+      const double s0 = NCF::dot(a0 - o[k], u[k]), s1 = NCF::dot(da, u[k]);
+      if (std::fabs(s1) < 1e-12 * la) continue;
+      for (double c : {-RAMP, RAMP, 0.5 * l[k], l[k] - RAMP, l[k] + RAMP}) add((c - s0) / s1);
+    }
+    std::sort(br.begin(), br.end());
+    // the zeros of the deficit (linear between the corners of the weights)
+    const size_t nb = br.size();
+    for (size_t i = 0; i + 1 < nb; i++) {
+      double a = br[i], b = br[i + 1], fa = deficit(a);
+      if ((fa > 0.0) == (deficit(b) > 0.0)) continue;
+      for (int it = 0; it < 100; it++) {
+        const double m = 0.5 * (a + b), fm = deficit(m);
+        if ((fm > 0.0) == (fa > 0.0)) {
+          a = m;
+          fa = fm;
+        } else {
+          b = m;
+        }
+      }
+      br.push_back(0.5 * (a + b));
+    }
+    std::sort(br.begin(), br.end());
+    // 5-point Gauss-Legendre on 4 subintervals of each piece (the integrand has degree 6 there)
+    static const double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                 0.9061798459386640};
+    static const double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                 0.4786286704993665, 0.2369268850561891};
+    double e = 0.0;
+    for (size_t i = 0; i + 1 < br.size(); i++)
+      for (int j = 0; j < 4; j++) {
+        const double a = br[i] + (br[i + 1] - br[i]) * j / 4.0;
+        const double b = br[i] + (br[i + 1] - br[i]) * (j + 1) / 4.0;
+        for (int k = 0; k < 5; k++)
+          e += 0.5 * (b - a) * gw[k] * density(0.5 * (a + b) + 0.5 * (b - a) * gx[k]);
+      }
+    return la * e;
+  }
+};
+
+Vec3 random_unit(std::mt19937 &rng)
+{
+  std::normal_distribution<double> g(0.0, 1.0);
+  Vec3 v;
+  do v = Vec3(g(rng), g(rng), g(rng));
+  while (NCF::norm(v) < 1e-3);
+  return (1.0 / NCF::norm(v)) * v;
+}
+}    // namespace
+
+TEST(NodeContact, MatchesBruteForceQuadrature)
+{
+  // random kinks (0..60 deg, segments of the chain from shorter than 2 ramps to a few D), A of
+  // several lengths at random positions and orientations within about D of the node, without
+  // and with core: the energy against the reference quadrature, the forces against its central
+  // differences, the penetration against the closest points
+  std::mt19937 rng(2718);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double lengths[4] = {0.3 * D, 0.7 * D, 1.5 * D, 3.0 * D};    // 2 e = 0.5 D
+  const double alengths[3] = {0.4 * D, 1.2 * D, 3.0 * D};
+  int tested = 0, tested_core = 0, short_chain = 0, short_a = 0;
+  double worst_e = 0.0, worst_f = 0.0;
+  int trials = 0;
+  for (int trial = 0; trial < 5000 && tested < 300; trial++) {
+    trials++;
+    const double kink = (M_PI / 3.0) * u(rng), core = (trial % 2) ? NCF::DEFAULT_CORE : 0.0;
+    const Vec3 t = random_unit(rng);
+    const Vec3 v = random_unit(rng), b = v - NCF::dot(v, t) * t;
+    const Vec3 bn = (1.0 / NCF::norm(b)) * b;    // normal to t, in the plane of the kink
+    const Vec3 e1 = std::cos(0.5 * kink) * t + std::sin(0.5 * kink) * bn;
+    const Vec3 e2 = std::cos(0.5 * kink) * t - std::sin(0.5 * kink) * bn;    // convex side: +bn
+    const double l1 = lengths[rng() % 4], l2 = lengths[rng() % 4], la = alengths[rng() % 3];
+    const Vec3 n(1e-4 * u(rng), 1e-4 * u(rng), 1e-4 * u(rng));
+    // A through a point within about D of n, mostly on the convex side
+    Vec3 off = random_unit(rng);
+    if (trial % 5) off = (1.0 / NCF::norm(bn + 0.8 * off)) * (bn + 0.8 * off);
+    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off, dir = random_unit(rng);
+    const Vec3 a0 = c - (la * u(rng)) * dir;
+    const Vec3 x[5] = {a0, a0 + la * dir, n - l1 * e1, n, n + l2 * e2};
+
+    const auto r = NCF::node_contact(x[0], x[1], x[2], x[3], x[4], D, KN, RAMP, core);
+    // the scale of the energy: all of A's part within D of n at full deficit
+    const double escale = 0.5 * KN * 0.25 * D * D * (1.0 + core / 3.0) * std::min(la, 2.0 * D);
+    const CapReference ref(x, core);
+    const double eref = ref.energy();
+    if (!(eref > 1e-6 * escale)) {
+      // nothing (or next to nothing) to integrate: node_contact agrees
+      EXPECT_LT(std::fabs(r.energy - eref), 1e-12 * escale) << "trial " << trial;
+      continue;
+    }
+    tested++;
+    tested_core += core > 0.0 && NCF::point_segment_dist2(x[0], x[1], n) < D * D / 3.0;
+    short_chain += std::min(l1, l2) < 2.0 * RAMP;
+    short_a += la < 2.0 * RAMP;
+    ASSERT_TRUE(r.active) << "trial " << trial;
+    const double dist = std::sqrt(NCF::closest_points_segments(x[0], x[1], n, n).dist2);
+    EXPECT_NEAR(r.penetration, std::max(0.0, D - dist), 1e-12 * D) << "trial " << trial;
+    const double de = std::fabs(r.energy - eref) / eref;
+    worst_e = std::max(worst_e, de);
+    EXPECT_LT(de, 1e-9) << "trial " << trial << ": " << r.energy << " vs " << eref;
+
+    // forces: central differences of the reference
+    const double h = 1e-6 * D;
+    Vec3 fd[5];
+    double fmax = 0.0;
+    for (int k = 0; k < 5; k++) {
+      double g[3];
+      for (int d = 0; d < 3; d++) {
+        Vec3 xp[5], xm[5];
+        for (int m = 0; m < 5; m++) xp[m] = xm[m] = x[m];
+        double *pp = (d == 0) ? &xp[k].x : (d == 1 ? &xp[k].y : &xp[k].z);
+        double *pm = (d == 0) ? &xm[k].x : (d == 1 ? &xm[k].y : &xm[k].z);
+        *pp += h;
+        *pm -= h;
+        g[d] = -(CapReference(xp, core).energy() - CapReference(xm, core).energy()) / (2.0 * h);
+      }
+      fd[k] = Vec3(g[0], g[1], g[2]);
+      fmax = std::max(fmax, NCF::norm(fd[k]));
+    }
+    for (int k = 0; k < 5; k++) {
+      const double df = NCF::norm(r.f[k] - fd[k]) / fmax;
+      worst_f = std::max(worst_f, df);
+      EXPECT_LT(df, 1e-6) << "trial " << trial << " node " << k << ": (" << r.f[k].x << ", "
+                          << r.f[k].y << ", " << r.f[k].z << ") vs (" << fd[k].x << ", " << fd[k].y
+                          << ", " << fd[k].z << ")";
+    }
+  }
+  EXPECT_GE(tested, 300);
+  EXPECT_GE(tested_core, 30);
+  EXPECT_GE(short_chain, 30);
+  EXPECT_GE(short_a, 30);
+  std::printf("node caps against the brute-force quadrature: %d configurations (A in the core: "
+              "%d; shorter than 2 ramps: a chain segment %d, A %d); worst relative error "
+              "energy %.2g, forces %.2g (%d trials)\n",
+              tested, tested_core, short_chain, short_a, worst_e, worst_f, trials);
 }
