@@ -1144,17 +1144,12 @@ void PairNCFContact::compute(int eflag, int vflag)
   // displacement of every local and ghost node since the build (all below skin/2): the distance
   // of two segments, or of a segment and a node, has changed by at most the sum of the largest
   // displacement of a node of each, so a listed pair whose distance at the build minus that
-  // bound is beyond its reach needs no test this step, and one within D minus it no prefilter
-  // Positions and displacement bounds are packed per node into one array (x, y, z, bound), so
-  // that the random accesses of the list loops fetch one cache line per node.
+  // bound is beyond its reach needs no test this step, and one within D minus it no prefilter.
   // Per node, one cache line of 8 doubles (x, y, z, displacement bound, vx, vy, vz, end-cap
   // extension), so that the random accesses of the list loops fetch one line per node.
   constexpr int NR = 8;
   xd.resize(NR * (size_t) nall + NR);
   double *const X = xd.data() + ((64 - ((uintptr_t) xd.data() & 63)) & 63) / sizeof(double);
-  // and the displacement bounds again in one dense array, for the bound tests of the list entries
-  dmn.resize(nall);
-  double *const DM = dmn.data();
   // (relative margin for the round-off of the distances)
   const double dm_margin = 0.5e-12 * reach_max;
   const double *const XB = xbuild.data();
@@ -1171,7 +1166,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       xk[0] = x[k][0];
       xk[1] = x[k][1];
       xk[2] = x[k][2];
-      xk[3] = DM[k] = std::sqrt(d2) * (1.0 + 1e-12) + dm_margin;
+      xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + dm_margin;
       if (copy_v) {
         xk[4] = v[k][0];
         xk[5] = v[k][1];
@@ -1201,8 +1196,11 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   // how far the gap of a pair list entry can have closed since the build: grow times the
   // displacement bounds of a node of A and of a node of B
-  auto closing = [DM](const PairCand &pc) {
-    return pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
+  auto closing = [X](const PairCand &pc) {
+    auto dm = [X](int k) {
+      return X[NR * (size_t) k + 3];
+    };
+    return pc.grow * (MAX(dm(pc.a0), dm(pc.a1)) + MAX(dm(pc.b0), dm(pc.b1)));
   };
 
   // every owned segment within the length the cutoffs were sized for: checked one by one only when

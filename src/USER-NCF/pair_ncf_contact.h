@@ -101,7 +101,6 @@ class PairNCFContact : public Pair {
   std::vector<double> fcon;       // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;         // per local+ghost atom, one cache line: position, displacement
                                   // bound, velocity, end-cap extension (this step)
-  std::vector<double> dmn;        // per local+ghost atom: the displacement bound again (dense)
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
