@@ -261,7 +261,8 @@ Vec3 unit_vector(std::mt19937 &rng)
 
 // Random caps: a kink of up to max_kink at n (chain p-n-q), chain segments and A of the lengths
 // given (each drawn from the list, times 1 +- 30 % when jitter), A through a point within about D
-// of n, mostly on the convex side of the kink, in any direction
+// of n, mostly on the convex side of the kink, in any direction (some exactly perpendicular or
+// parallel to a chain segment)
 std::vector<Cap> random_caps(int count, unsigned seed, double max_kink,
                              const std::vector<double> &lengths,
                              const std::vector<double> &alengths, bool jitter)
@@ -283,7 +284,13 @@ std::vector<Cap> random_caps(int count, unsigned seed, double max_kink,
     const Vec3 n(1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng));
     Vec3 off = unit_vector(rng);
     if (k % 5) off = (1.0 / NCF::norm(bn + 0.8 * off)) * (bn + 0.8 * off);
-    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off, dir = unit_vector(rng);
+    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off;
+    Vec3 dir = unit_vector(rng);
+    // one in seven perpendicular to a chain segment (its arc position constant along A), one in
+    // seven parallel to it
+    const Vec3 ek = (k / 7) % 2 ? e1 : e2;
+    if (k % 7 == 3) dir = (1.0 / NCF::norm(NCF::cross(ek, dir))) * NCF::cross(ek, dir);
+    if (k % 7 == 5) dir = ek;
     const Vec3 a0 = c - (la * u(rng)) * dir;
     out.push_back({{a0, a0 + la * dir, n - l1 * e1, n, n + l2 * e2}});
   }
