@@ -370,7 +370,7 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
 }
 
 namespace {
-  constexpr double DEFICIT_TOL = 1e-9;
+  constexpr double DEFICIT_TOL = NODE_DEFICIT_TOL;
 }    // namespace
 
 // Compiled for AVX-512, AVX2 and the x86-64 baseline, picked at run time (as the batched kernels):

@@ -224,6 +224,51 @@ struct NodeContact {
 // core: as ContactOptions::core (the same stiff core around the node, radius CORE_FRACTION D).
 NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Vec3 &n,
                          const Vec3 &q, double dc, double kn, double ramp, double core = 0.0);
+// the deficit 1 - W_pn - W_nq counts only beyond this tolerance (round-off of straight chains)
+constexpr double NODE_DEFICIT_TOL = 1e-9;
+
+// Batched evaluation of node_contact over caps (one lane per cap), without branches, so that the
+// compiler puts several caps into one vector instruction: the common case where both chain
+// segments p-n and n-q are at least D + e long (within D of n only their ramps at n act, as in
+// node_contact's early exit on the concave side) and A is longer than MIN_LENGTH * D. A cap
+// outside this case comes back with status -1, to be evaluated by node_contact; otherwise the
+// results equal node_contact's to round-off (tested; status 0 where node_contact is inactive).
+// Fill n lanes (set), call node_contact_batch, read the lanes.
+constexpr int CAP_BATCH = 32;
+struct CapBatch {
+  int n = 0;
+  // input per lane: a0, a1, p, n, q (x, y, z each); contact distance, stiffness, ramp
+  double x[15][CAP_BATCH];
+  double dc[CAP_BATCH], kn[CAP_BATCH], ramp[CAP_BATCH];
+  // output per lane: status 1 contact, 0 none, -1 not evaluated (use node_contact); energy,
+  // forces on a0, a1, p, n, q (x, y, z each), penetration
+  double status[CAP_BATCH];
+  double energy[CAP_BATCH], f[15][CAP_BATCH], penetration[CAP_BATCH];
+  void set(int lane, const double *a0, const double *a1, const double *p, const double *nd,
+           const double *q, double d, double k, double e)
+  {
+    const double *r[5] = {a0, a1, p, nd, q};
+    for (int m = 0; m < 5; m++)
+      for (int c = 0; c < 3; c++) x[3 * m + c][lane] = r[m][c];
+    dc[lane] = d;
+    kn[lane] = k;
+    ramp[lane] = e;
+  }
+  // the result of a lane with status 1 (or 0: inactive) as node_contact returns it
+  NodeContact result(int lane) const
+  {
+    NodeContact c;
+    if (!(status[lane] > 0.0)) return c;
+    c.active = true;
+    c.energy = energy[lane];
+    for (int m = 0; m < 5; m++)
+      c.f[m] = Vec3(f[3 * m][lane], f[3 * m + 1][lane], f[3 * m + 2][lane]);
+    c.penetration = penetration[lane];
+    return c;
+  }
+};
+// core: as node_contact's, the same for all lanes
+void node_contact_batch(CapBatch &b, double core);
 
 // One step of the Coulomb slip spring.
 //   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)

@@ -1544,29 +1544,44 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[ncapin] = work[w];
     ncapin += within & (NCF::point_segment_dist2(Vec3(ra), Vec3(rb), Vec3(rn)) < dc * dc);
   }
-  for (int w = 0; w < ncapin; w++) {
-    const CapCand &cc = clist[work[w]];
-    const int ao = cc.a0, ia = cc.a1, kp = cc.p, k = cc.n, kq = cc.q;
-    const TypePair &tp = tpar[cc.tp];
-    const double dc = tp.dc;
-    const NCF::NodeContact c =
-        NCF::node_contact(Vec3(xof(ao)), Vec3(xof(ia)), Vec3(xof(kp)), Vec3(xof(k)), Vec3(xof(kq)),
-                          dc, tp.kn, tp.ramp, core);
-    if (!c.active) continue;
-    const int ids[5] = {ao, ia, kp, k, kq};
-    for (int m = 0; m < 5; m++) {
-      f[ids[m]][0] += c.f[m].x;
-      f[ids[m]][1] += c.f[m].y;
-      f[ids[m]][2] += c.f[m].z;
-      if (fatom_flag) {
-        fcon[3 * ids[m] + 0] += c.f[m].x;
-        fcon[3 * ids[m] + 1] += c.f[m].y;
-        fcon[3 * ids[m] + 2] += c.f[m].z;
-      }
+  // in batches of CAP_BATCH caps through the batched caps (NCF::node_contact_batch), which hands
+  // back the caps outside its case to node_contact; the forces are added in the order of the caps
+  for (int w0 = 0; w0 < ncapin; w0 += NCF::CAP_BATCH) {
+    cbatch.n = MIN(NCF::CAP_BATCH, ncapin - w0);
+    for (int l = 0; l < cbatch.n; l++) {
+      const CapCand &cc = clist[work[w0 + l]];
+      const TypePair &tp = tpar[cc.tp];
+      cbatch.set(l, xof(cc.a0), xof(cc.a1), xof(cc.p), xof(cc.n), xof(cc.q), tp.dc, tp.kn, tp.ramp);
     }
-    if (eflag_global) eng_vdwl += c.energy;
-    ncap += 1.0;
-    penmax = MAX(penmax, c.penetration);
+    NCF::node_contact_batch(cbatch, core);
+    for (int l = 0; l < cbatch.n; l++) {
+      const double st = cbatch.status[l];
+      if (st == 0.0) continue;
+      const CapCand &cc = clist[work[w0 + l]];
+      const int ids[5] = {cc.a0, cc.a1, cc.p, cc.n, cc.q};
+      NCF::NodeContact c;
+      if (st < 0.0) {
+        const TypePair &tp = tpar[cc.tp];
+        c = NCF::node_contact(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.p)), Vec3(xof(cc.n)),
+                              Vec3(xof(cc.q)), tp.dc, tp.kn, tp.ramp, core);
+        if (!c.active) continue;
+      } else {
+        c = cbatch.result(l);
+      }
+      for (int m = 0; m < 5; m++) {
+        f[ids[m]][0] += c.f[m].x;
+        f[ids[m]][1] += c.f[m].y;
+        f[ids[m]][2] += c.f[m].z;
+        if (fatom_flag) {
+          fcon[3 * ids[m] + 0] += c.f[m].x;
+          fcon[3 * ids[m] + 1] += c.f[m].y;
+          fcon[3 * ids[m] + 2] += c.f[m].z;
+        }
+      }
+      if (eflag_global) eng_vdwl += c.energy;
+      ncap += 1.0;
+      penmax = MAX(penmax, c.penetration);
+    }
   }
 
   // this step's history is the last step's of the next (its rows are written when needed)

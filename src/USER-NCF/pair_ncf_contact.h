@@ -98,6 +98,7 @@ class PairNCFContact : public Pair {
   std::vector<int> work;          // pair list entries gathered for a loop (compute, store)
   NCF::ContactBatch batch;        // lanes of the batched contact law
   NCF::TangentialBatch tbatch;    // lanes of the batched dashpot and friction
+  NCF::CapBatch cbatch;           // lanes of the batched node caps
   std::vector<double> fcon;       // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;         // per local+ghost atom, one cache line: position, displacement
                                   // bound, velocity, end-cap extension (this step)

@@ -241,3 +241,157 @@ TEST(ContactBatch, ExtendedSegmentsEqualTheScalarLaw)
   if (b.n > 0) check();
   EXPECT_GT(compared, 4000);
 }
+
+// ---------------------------------------------------------------- node caps
+
+namespace {
+
+struct Cap {
+  Vec3 x[5];    // a0, a1, p, n, q
+};
+
+Vec3 unit_vector(std::mt19937 &rng)
+{
+  std::normal_distribution<double> g(0.0, 1.0);
+  Vec3 v;
+  do v = Vec3(g(rng), g(rng), g(rng));
+  while (NCF::norm(v) < 1e-3);
+  return (1.0 / NCF::norm(v)) * v;
+}
+
+// Random caps: a kink of up to max_kink at n (chain p-n-q), chain segments and A of the lengths
+// given (each drawn from the list, times 1 +- 30 % when jitter), A through a point within about D
+// of n, mostly on the convex side of the kink, in any direction (some exactly perpendicular or
+// parallel to a chain segment)
+std::vector<Cap> random_caps(int count, unsigned seed, double max_kink,
+                             const std::vector<double> &lengths,
+                             const std::vector<double> &alengths, bool jitter)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Cap> out;
+  for (int k = 0; k < count; k++) {
+    const double kink = max_kink * u(rng);
+    const Vec3 t = unit_vector(rng);
+    const Vec3 v = unit_vector(rng), b = v - NCF::dot(v, t) * t;
+    const Vec3 bn = (1.0 / NCF::norm(b)) * b;    // normal to t, in the plane of the kink
+    const Vec3 e1 = std::cos(0.5 * kink) * t + std::sin(0.5 * kink) * bn;
+    const Vec3 e2 = std::cos(0.5 * kink) * t - std::sin(0.5 * kink) * bn;    // convex side: +bn
+    auto draw = [&](const std::vector<double> &from) {
+      return from[rng() % from.size()] * (jitter ? 1.0 + 0.3 * (2.0 * u(rng) - 1.0) : 1.0);
+    };
+    const double l1 = draw(lengths), l2 = draw(lengths), la = draw(alengths);
+    const Vec3 n(1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng));
+    Vec3 off = unit_vector(rng);
+    if (k % 5) off = (1.0 / NCF::norm(bn + 0.8 * off)) * (bn + 0.8 * off);
+    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off;
+    Vec3 dir = unit_vector(rng);
+    // one in seven perpendicular to a chain segment (its arc position constant along A), one in
+    // seven parallel to it
+    const Vec3 ek = (k / 7) % 2 ? e1 : e2;
+    if (k % 7 == 3) dir = (1.0 / NCF::norm(NCF::cross(ek, dir))) * NCF::cross(ek, dir);
+    if (k % 7 == 5) dir = ek;
+    const Vec3 a0 = c - (la * u(rng)) * dir;
+    out.push_back({{a0, a0 + la * dir, n - l1 * e1, n, n + l2 * e2}});
+  }
+  return out;
+}
+
+struct CapStats {
+  int batch = 0, batch_active = 0, left = 0, left_active = 0, concave = 0;
+  double worst_e = 0.0, worst_f = 0.0;
+};
+
+// every lane of the batch that it evaluates against node_contact
+CapStats check_caps(const std::vector<Cap> &caps, double core)
+{
+  CapStats s;
+  NCF::CapBatch b;
+  for (size_t start = 0; start < caps.size(); start += NCF::CAP_BATCH) {
+    b.n = (int) std::min<size_t>(NCF::CAP_BATCH, caps.size() - start);
+    for (int l = 0; l < b.n; l++) {
+      const Vec3 *x = caps[start + l].x;
+      const double r[5][3] = {{x[0].x, x[0].y, x[0].z},
+                              {x[1].x, x[1].y, x[1].z},
+                              {x[2].x, x[2].y, x[2].z},
+                              {x[3].x, x[3].y, x[3].z},
+                              {x[4].x, x[4].y, x[4].z}};
+      b.set(l, r[0], r[1], r[2], r[3], r[4], D, KN, RAMP);
+    }
+    NCF::node_contact_batch(b, core);
+    for (int l = 0; l < b.n; l++) {
+      const Vec3 *x = caps[start + l].x;
+      const int k = (int) (start + l);
+      const auto ref = NCF::node_contact(x[0], x[1], x[2], x[3], x[4], D, KN, RAMP, core);
+      if (b.status[l] < 0.0) {
+        EXPECT_EQ(b.status[l], -1.0) << "cap " << k;
+        s.left++;
+        s.left_active += ref.active;
+        continue;
+      }
+      s.batch++;
+      EXPECT_TRUE(b.status[l] == 0.0 || b.status[l] == 1.0) << "cap " << k;
+      const NCF::NodeContact c = b.result(l);
+      EXPECT_EQ(c.active, ref.active)
+          << "cap " << k << " core " << core << ": energy " << b.energy[l] << " vs " << ref.energy;
+      if (!ref.active || !c.active) continue;
+      s.batch_active++;
+      double fs = 0.0;
+      for (int m = 0; m < 5; m++) fs = std::max(fs, NCF::norm(ref.f[m]));
+      const double de = std::fabs(c.energy - ref.energy) / ref.energy;
+      s.worst_e = std::max(s.worst_e, de);
+      EXPECT_LT(de, 1e-9) << "cap " << k << " core " << core << ": " << c.energy << " vs "
+                          << ref.energy;
+      for (int m = 0; m < 5; m++) {
+        const double df = NCF::norm(c.f[m] - ref.f[m]) / fs;
+        s.worst_f = std::max(s.worst_f, df);
+        EXPECT_LT(df, 1e-9) << "cap " << k << " core " << core << " node " << m << ": (" << c.f[m].x
+                            << ", " << c.f[m].y << ", " << c.f[m].z << ") vs (" << ref.f[m].x
+                            << ", " << ref.f[m].y << ", " << ref.f[m].z << ")";
+      }
+      EXPECT_NEAR(c.penetration, ref.penetration, 1e-12 * D) << "cap " << k;
+    }
+  }
+  return s;
+}
+
+}    // namespace
+
+// The batched caps (node_contact_batch) against node_contact: random kinks of 0 to 60 degrees,
+// chain segments and A from shorter than 2 ramps to a few D (and of the bench's mesh, 0.2 mm),
+// A anywhere within about D of the node, mostly on the convex side, without and with core. Every
+// lane the batch evaluates gives node_contact's contact (active or not, energy, forces on the
+// five nodes, penetration) to round-off; the lanes it leaves to node_contact are those with a
+// chain segment shorter than D + e.
+TEST(CapBatch, EqualsNodeContactLaneByLane)
+{
+  const std::vector<double> lengths = {0.3 * D, 0.7 * D, 1.2 * D, 1.3 * D, 1.5 * D, 3.0 * D, 2e-4};
+  const std::vector<double> alengths = {0.05 * D, 0.4 * D, 1.2 * D, 3.0 * D, 2e-4};
+  for (double core : {0.0, NCF::DEFAULT_CORE}) {
+    const std::vector<Cap> caps = random_caps(20000, 17, M_PI / 3.0, lengths, alengths, true);
+    const CapStats s = check_caps(caps, core);
+    // both sides are exercised
+    EXPECT_GT(s.batch_active, 4000) << "core " << core;
+    EXPECT_GT(s.batch - s.batch_active, 500) << "core " << core;
+    EXPECT_GT(s.left_active, 1000) << "core " << core;
+    printf("core %g: %d caps evaluated by the batch (%d active), %d left to node_contact (%d "
+           "active); worst relative error energy %.2g, forces %.2g\n",
+           core, s.batch, s.batch_active, s.left, s.left_active, s.worst_e, s.worst_f);
+  }
+}
+
+// On caps like the bench's (mesh 0.2 mm = 2.9 D, kinks up to 30 degrees, A a chain segment of
+// the same mesh) the batch evaluates nearly all caps itself
+TEST(CapBatch, HandlesBenchLikeCaps)
+{
+  for (double core : {0.0, NCF::DEFAULT_CORE}) {
+    const std::vector<Cap> caps = random_caps(8000, 23, M_PI / 6.0, {2e-4}, {2e-4}, true);
+    const CapStats s = check_caps(caps, core);
+    const double left = (double) s.left / (s.batch + s.left);
+    EXPECT_LT(left, 0.01) << "core " << core;
+    EXPECT_GT(s.batch_active, 1000) << "core " << core;
+    printf("bench-like caps, core %g: %d in the batch (%d active), %d (%.2g %%) left to "
+           "node_contact\n",
+           core, s.batch, s.batch_active, s.left, 100.0 * left);
+  }
+}
