@@ -916,7 +916,9 @@ void PairNCFContact::build_lists()
         gap_growth(la, MAX(endext[ao], endext[ia]), lb, MAX(endext[bo], endext[jb]) + tp.ramp);
     // no node moves more than skin / 2 before the next build (checked in compute)
     if (gap >= grow * skin) return;
-    plist.push_back({ao, ia, bo, jb, type_pair(type[ao], type[bo]), (float) grow, gap});
+    const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 || endext[jb] != 0.0;
+    plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
+                     (float) grow, gap});
   };
 
   // the boxes: every segment (owner node, partner) known here, and every interior node
@@ -1484,7 +1486,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double *row[4] = {xof(pc.a0), xof(pc.a1), xof(pc.b0), xof(pc.b1)};
     const double close = pc.grow * (MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]));
     // segments at free chain ends enter extended (end caps), mapped back after the law
-    lane_ext[l] = row[0][7] != 0.0 || row[1][7] != 0.0 || row[2][7] != 0.0 || row[3][7] != 0.0;
+    lane_ext[l] = pc.ext;
     if (lane_ext[l]) {
       EntryNodes en = nodes_of(pc);
       NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);

@@ -106,7 +106,8 @@ class PairNCFContact : public Pair {
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
     int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
-    int tp;                // type pair (index into tpar)
+    unsigned tp : 31;      // type pair (index into tpar)
+    unsigned ext : 1;      // 1 if a node of A or B is a free chain end (segment extended)
     float grow;            // bound of the closing speed of the gap (gap_growth)
     double gap;            // at the build: distance of A and B (extended at free ends, B also by
                            // the ramp half-width) minus D, rounded down; the law is zero while
