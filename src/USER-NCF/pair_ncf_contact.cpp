@@ -1541,9 +1541,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[nnear] = e;
     nnear += clist[e].gap - dglob < 0.0;
   }
-  // then those within reach after the displacement bounds of their own nodes where, moreover, A
-  // comes within D of the node (the cap acts only there): again without branches, about half of
-  // them drop out, unpredictably
+  // then those within reach after the displacement bounds of their own nodes (again without
+  // branches); whether A comes within D of the node at all is the batch's first test
   int ncapin = 0;
   for (int w = 0; w < nnear; w++) {
     if (w + 16 < nnear) {
@@ -1552,11 +1551,8 @@ void PairNCFContact::compute(int eflag, int vflag)
       __builtin_prefetch(xof(cn.n));
     }
     const CapCand &cc = clist[work[w]];
-    const double dc = tpar[cc.tp].dc;
-    const double *ra = xof(cc.a0), *rb = xof(cc.a1), *rn = xof(cc.n);
-    const bool within = cc.gap - (MAX(ra[3], rb[3]) + rn[3]) < 0.0;
     work[ncapin] = work[w];
-    ncapin += within & (NCF::point_segment_dist2(Vec3(ra), Vec3(rb), Vec3(rn)) < dc * dc);
+    ncapin += cc.gap - (MAX(xof(cc.a0)[3], xof(cc.a1)[3]) + xof(cc.n)[3]) < 0.0;
   }
   // in batches of CAP_BATCH caps through the batched caps (NCF::node_contact_batch), which hands
   // back the caps outside its case to node_contact; the forces are added in the order of the caps
