@@ -1429,6 +1429,11 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
     }
     if (use_velocity) NCF::tangential_batch(batch, tbatch, dt);
+    // the contacts' slips kept and forces added (as apply does, with the counters in locals, so
+    // that they stay in registers; the same operations in the same order)
+    Row *const fa = f;
+    double *const fc = fatom_flag ? fcon.data() : nullptr;
+    double nc = ncontact, ps = pensum, pm = penmax, ev = eng_vdwl;
     for (int l = 0; l < batch.n; l++) {
       if (!lane_go[l]) continue;
       const int e = lane_e[l];
@@ -1440,13 +1445,23 @@ void PairNCFContact::compute(int eflag, int vflag)
         has_wr[e] = 1;
         espring = tbatch.energy[l];
       }
-      apply(
-          e,
-          [this, l](int m, int d) {
-            return batch.f[3 * m + d][l];
-          },
-          batch.energy[l] + espring, lane_pen[l]);
+      const PairCand &pc = plist[e];
+      const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) fa[nodes[m]][d] += batch.f[3 * m + d][l];
+      if (fc)
+        for (int m = 0; m < 4; m++)
+          for (int d = 0; d < 3; d++) fc[3 * nodes[m] + d] += batch.f[3 * m + d][l];
+      if (eng) ev += batch.energy[l] + espring;
+      const double pen = lane_pen[l];
+      nc += 1.0;
+      ps += pen;
+      pm = MAX(pm, pen);
     }
+    ncontact = nc;
+    pensum = ps;
+    penmax = pm;
+    eng_vdwl = ev;
     batch.n = 0;
   };
   // Each entry within the largest reach goes into the next lane, which is kept only if the entry
