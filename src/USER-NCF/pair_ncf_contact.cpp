@@ -916,7 +916,8 @@ void PairNCFContact::build_lists()
         gap_growth(la, MAX(endext[ao], endext[ia]), lb, MAX(endext[bo], endext[jb]) + tp.ramp);
     // no node moves more than skin / 2 before the next build (checked in compute)
     if (gap >= grow * skin) return;
-    const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 || endext[jb] != 0.0;
+    const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 ||
+        endext[jb] != 0.0;
     plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
                      (float) grow, gap});
   };
