@@ -21,6 +21,7 @@
    and are left to node_contact, which is the reference this code is tested against.
 ------------------------------------------------------------------------- */
 
+#include "ncf_batch_rerun.h"
 #include "ncf_contact.h"
 
 #include <cmath>
@@ -276,19 +277,7 @@ void node_contact_batch(CapBatch &b, double core)
   cap_lanes<false>(b, core);
   CapBatch m;
   int lane[CAP_BATCH];
-  m.n = 0;
-  for (int l = 0; l < b.n; l++) {
-    lane[m.n] = l;
-    m.n += b.status[l] == -2.0;
-  }
-  if (m.n == 0) return;
-  for (int j = 0; j < m.n; j++) {
-    const int l = lane[j];
-    for (int k = 0; k < 15; k++) m.x[k][j] = b.x[k][l];
-    m.dc[j] = b.dc[l];
-    m.kn[j] = b.kn[l];
-    m.ramp[j] = b.ramp[l];
-  }
+  if (gather_flagged_lanes<15>(b, m, lane) == 0) return;
   cap_lanes<true>(m, core);
   for (int j = 0; j < m.n; j++) {
     const int l = lane[j];

@@ -11,6 +11,7 @@
    code is tested against.
 ------------------------------------------------------------------------- */
 
+#include "ncf_batch_rerun.h"
 #include "ncf_contact.h"
 
 #include <cmath>
@@ -238,19 +239,7 @@ void segment_contact_batch(ContactBatch &b, double core)
   law_lanes<false>(b, core);
   ContactBatch m;
   int lane[CONTACT_BATCH];
-  m.n = 0;
-  for (int l = 0; l < b.n; l++) {
-    lane[m.n] = l;
-    m.n += b.status[l] == -2.0;
-  }
-  if (m.n == 0) return;
-  for (int j = 0; j < m.n; j++) {
-    const int l = lane[j];
-    for (int k = 0; k < 12; k++) m.x[k][j] = b.x[k][l];
-    m.dc[j] = b.dc[l];
-    m.kn[j] = b.kn[l];
-    m.ramp[j] = b.ramp[l];
-  }
+  if (gather_flagged_lanes<12>(b, m, lane) == 0) return;
   law_lanes<true>(m, core);
   for (int j = 0; j < m.n; j++) {
     const int l = lane[j];
