@@ -1465,9 +1465,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     eng_vdwl = ev;
     batch.n = 0;
   };
-  // Each entry within the largest reach goes into the next lane, which is kept only if the entry
-  // is also within reach after the displacement bounds of its own nodes (read from the rows just
-  // loaded; without a branch: about one in six drops out, unpredictably)
+  // Each entry within the largest reach goes into the next lane if it is also within reach after
+  // the displacement bounds of its own nodes (read from the rows just loaded)
   // with one set of coefficients for all type pairs (the usual case) they are put into every lane
   // once, not lane by lane
   const int ntypes = atom->ntypes;
@@ -1501,6 +1500,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     const int l = batch.n;
     const double *row[4] = {xof(pc.a0), xof(pc.a1), xof(pc.b0), xof(pc.b1)};
     const double close = pc.grow * (MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]));
+    // (most entries are kept at rest, few where the nodes move fast: the branch is predictable
+    // in both cases, and the lane is not filled in vain in the second)
+    if (!(pc.gap - close < 0.0)) continue;
     // segments at free chain ends enter extended (end caps), mapped back after the law
     lane_ext[l] = pc.ext;
     if (lane_ext[l]) {
@@ -1531,7 +1533,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       for (int d = 0; d < 3; d++) tbatch.slip[d][l] = 0.0;
       lane_had[l] = false;
     }
-    batch.n += pc.gap - close < 0.0;
+    batch.n++;
     if (batch.n == NCF::CONTACT_BATCH) flush();
   }
   if (batch.n > 0) flush();
