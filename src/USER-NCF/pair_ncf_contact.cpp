@@ -116,6 +116,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lists_ncalls = -1;
   lists_nlocal = lists_nall = -1;
   lseg_build = 0.0;
+  keep_last = 1.0;
   hlast = 0;
   rows_current = true;
   nextra = 4;
@@ -1153,6 +1154,9 @@ void PairNCFContact::compute(int eflag, int vflag)
   constexpr int NR = 8;
   xd.resize(NR * (size_t) nall + NR);
   double *const X = xd.data() + ((64 - ((uintptr_t) xd.data() & 63)) & 63) / sizeof(double);
+  // and the displacement bounds again in one dense array (the filter of many entries, below)
+  dmn.resize(nall);
+  double *const DM = dmn.data();
   // (relative margin for the round-off of the distances)
   const double dm_margin = 0.5e-12 * reach_max;
   const double *const XB = xbuild.data();
@@ -1169,7 +1173,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       xk[0] = x[k][0];
       xk[1] = x[k][1];
       xk[2] = x[k][2];
-      xk[3] = std::sqrt(d2) * (1.0 + 1e-12) + dm_margin;
+      xk[3] = DM[k] = std::sqrt(d2) * (1.0 + 1e-12) + dm_margin;
       if (copy_v) {
         xk[4] = v[k][0];
         xk[5] = v[k][1];
@@ -1199,11 +1203,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   // how far the gap of a pair list entry can have closed since the build: grow times the
   // displacement bounds of a node of A and of a node of B
-  auto closing = [X](const PairCand &pc) {
-    auto dm = [X](int k) {
-      return X[NR * (size_t) k + 3];
-    };
-    return pc.grow * (MAX(dm(pc.a0), dm(pc.a1)) + MAX(dm(pc.b0), dm(pc.b1)));
+  auto closing = [DM](const PairCand &pc) {
+    return pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
   };
 
   // every owned segment within the length the cutoffs were sized for: checked one by one only when
@@ -1375,6 +1376,21 @@ void PairNCFContact::compute(int eflag, int vflag)
     work[nwork] = e;
     nwork += plist[e].gap - plist[e].grow * dglob < 0.0;
   }
+  // When many of these drop out at the test by the bounds of their own nodes (nodes moving fast
+  // somewhere, as in a compaction: judged by the last step), that test on the dense bounds
+  // first, without branches: cheaper than loading the node rows of entries that then drop out.
+  // (At rest nearly all are kept: the test on the rows below is cheaper there.) The same test
+  // either way, so the same results.
+  const int nnear_pairs = nwork;
+  if (keep_last < 0.8) {
+    int nkeep = 0;
+    for (int k = 0; k < nwork; k++) {
+      const int e = work[k];
+      work[nkeep] = e;
+      nkeep += plist[e].gap - closing(plist[e]) < 0.0;
+    }
+    nwork = nkeep;
+  }
   // The pairs go through the batched law, which evaluates the common case several pairs per
   // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch),
   // then the contacts through the batched dashpot and friction (NCF::tangential_batch)
@@ -1487,6 +1503,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   if (uniform)
     for (int l = 0; l < NCF::CONTACT_BATCH; l++) set_coefficients(l, tpar[type_pair(1, 1)]);
+  int nkept = 0;
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
     // (the node rows of an entry a few ahead requested now: ~3 % of the pair's time)
@@ -1503,6 +1520,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     // (most entries are kept at rest, few where the nodes move fast: the branch is predictable
     // in both cases, and the lane is not filled in vain in the second)
     if (!(pc.gap - close < 0.0)) continue;
+    nkept++;
     // segments at free chain ends enter extended (end caps), mapped back after the law
     lane_ext[l] = pc.ext;
     if (lane_ext[l]) {
@@ -1537,6 +1555,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (batch.n == NCF::CONTACT_BATCH) flush();
   }
   if (batch.n > 0) flush();
+  keep_last = nnear_pairs > 0 ? (double) nkept / nnear_pairs : 1.0;
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
   // rows of the previous step, not yet replaced) only in steps where some rank has one
   if (use_history) {

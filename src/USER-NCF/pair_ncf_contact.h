@@ -102,6 +102,9 @@ class PairNCFContact : public Pair {
   std::vector<double> fcon;       // per local+ghost atom contact force (3), for fatom
   std::vector<double> xd;         // per local+ghost atom, one cache line: position, displacement
                                   // bound, velocity, end-cap extension (this step)
+  std::vector<double> dmn;        // per local+ghost atom: the displacement bound again (dense)
+  double keep_last;    // fraction of the pair entries near by the global bound kept by their own
+                       // nodes' bounds in the last step
 
   // candidate lists (atom indices), rebuilt when LAMMPS reneighbours
   struct PairCand {
