@@ -1481,8 +1481,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     eng_vdwl = ev;
     batch.n = 0;
   };
-  // Each entry within the largest reach goes into the next lane if it is also within reach after
-  // the displacement bounds of its own nodes (read from the rows just loaded)
   // with one set of coefficients for all type pairs (the usual case) they are put into every lane
   // once, not lane by lane
   const int ntypes = atom->ntypes;
@@ -1503,6 +1501,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   };
   if (uniform)
     for (int l = 0; l < NCF::CONTACT_BATCH; l++) set_coefficients(l, tpar[type_pair(1, 1)]);
+  // Each entry within the largest reach goes into the next lane if it is also within reach after
+  // the displacement bounds of its own nodes (read from the rows just loaded)
   int nkept = 0;
   for (int k = 0; k < nwork; k++) {
     const int e = work[k];
