@@ -22,6 +22,7 @@
 ------------------------------------------------------------------------- */
 
 #include "ncf_batch_rerun.h"
+#include "ncf_cap_piece.h"
 #include "ncf_contact.h"
 
 #include <cmath>
@@ -44,9 +45,6 @@ namespace {
   template <bool FULL>
   inline __attribute__((always_inline)) void cap_lanes(CapBatch &__restrict b, double core)
   {
-    // 4-point Gauss (the integrand has degree <= 7 on each piece)
-    constexpr double GX0 = 0.8611363115940526, GX1 = 0.3399810435848563;
-    constexpr double GW0 = 0.3478548451374538, GW1 = 0.6521451548625461;
     const double kap = core > 0.0 ? core : 0.0;
     const double cf2 = CORE_FRACTION * CORE_FRACTION;
     const int n = b.n;
@@ -142,6 +140,7 @@ namespace {
       const double inv2d = 0.5 / dcs, invd = 2.0 * inv2d;
       const double dcc2 = cf2 * d2, inv2c = SQRT3 * inv2d, invc = 2.0 * inv2c;
       const double kh = 0.5 * kap, kd = kap * invc;
+      const CapProfile prof = {d2, inv2d, invd, dcc2, inv2c, kh, kd};
 
       // the moments (node_contact): alpha (1, xi, xi^2), eps, and per ramp sum sigma beta,
       // sigma^2 beta, sigma beta xi
@@ -149,7 +148,7 @@ namespace {
       double sb1 = 0.0, sq1 = 0.0, sx1 = 0.0, sb2 = 0.0, sq2 = 0.0, sx2 = 0.0;
       auto interval = [&](double a, double bb) __attribute__((always_inline))
       {
-        const double hf = 0.5 * (bb - a), mf = 0.5 * (bb + a);
+        const double mf = 0.5 * (bb + a);
         // the ramps at n on the interval (at its middle; z1 and z2 keep their signs on it) and the
         // deficit there, linear on the interval
         const double s1m = s10 + s11 * mf, s2m = s20 + s21 * mf;
@@ -157,52 +156,19 @@ namespace {
         const double sg1 = z1 > 0.0 ? -1.0 : 0.0, sg2 = z2 > 0.0 ? 1.0 : 0.0;
         const double dm = 1.0 - (z1 > 0.0 ? z1 : 0.0) - (z2 > 0.0 ? z2 : 0.0) - NODE_DEFICIT_TOL;
         const double dsl = -(sg1 * s11 + sg2 * s21) * inv2e;
-        // its positive part: the piece, split at the zero where the deficit changes sign
-        const double fa = dm - dsl * hf, fb = dm + dsl * hf;
-        const double xz = mf - dm / (dsl != 0.0 ? dsl : 1.0);
-        const double xa = xz > a ? xz : a;
-        const double x = xa < bb ? xa : bb;
-        const double pa = ((fa < 0.0) & (fb > 0.0)) ? x : a,
-                     pb = ((fa > 0.0) & (fb < 0.0)) ? x : bb;
-        const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
-        const double defmid = dm + dsl * (mid - mf);
-        const double hw = ((half > 0.0) & (defmid > 0.0)) ? half : 0.0;
-        double al_ = 0.0, ax_ = 0.0, axx_ = 0.0, ep_ = 0.0, bt_ = 0.0, bx_ = 0.0;
-        auto point = [&](double y, double w) __attribute__((always_inline))
-        {
-          const double xi = mid + y, t = xi - xc;
-          const double r2 = rc2 + la2s * (t * t);
-          const double h0 = (d2 - r2) * inv2d, hc0 = (dcc2 - r2) * inv2c;
-          const double h = h0 > 0.0 ? h0 : 0.0, hc = hc0 > 0.0 ? hc0 : 0.0;
-          const double hh = 0.5 * h * h + kh * hc * hc;
-          const double hd = h * invd + kd * hc;
-          const double df0 = defmid + dsl * y;
-          const double def = df0 > 0.0 ? df0 : 0.0;
-          const double od = (hw * w) * def, odd = od * def;
-          const double al = odd * hd, bt = od * hh;
-          const double ax = al * xi;
-          al_ += al;
-          ax_ += ax;
-          axx_ += ax * xi;
-          ep_ += odd * hh;
-          bt_ += bt;
-          bx_ += bt * xi;
-        };
-        point(-half * GX0, GW0);
-        point(-half * GX1, GW1);
-        point(half * GX1, GW1);
-        point(half * GX0, GW0);
-        sal += al_;
-        sax += ax_;
-        saxx += axx_;
-        seps += ep_;
-        const double b1 = sg1 * bt_, b2 = sg2 * bt_;
+        // its positive part, integrated (4-point Gauss: degree <= 7 on each piece)
+        const CapPiece pc = cap_piece(a, bb, dm, dsl, xc, rc2, la2s, prof);
+        sal += pc.al;
+        sax += pc.ax;
+        saxx += pc.axx;
+        seps += pc.ep;
+        const double b1 = sg1 * pc.bt, b2 = sg2 * pc.bt;
         sb1 += b1;
         sq1 += sg1 * b1;
-        sx1 += sg1 * bx_;
+        sx1 += sg1 * pc.bx;
         sb2 += b2;
         sq2 += sg2 * b2;
-        sx2 += sg2 * bx_;
+        sx2 += sg2 * pc.bx;
       };
       interval(lo, c0);
       interval(c0, c1);

@@ -4,6 +4,8 @@
 
 #include "ncf_contact.h"
 
+#include "ncf_cap_piece.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -462,16 +464,12 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   }
   nb++;    // hi
 
-  // 4-point Gauss: the integrand (deficit^2 h^2, its gradient) has degree <= 7 on each piece
-  static const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
-                               0.8611363115940526};
-  static const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
-                               0.3478548451374538};
   const double inv2e = 0.5 / e;
   // |x - n|^2 from the point of A's line closest to n (no cancellation)
   const double xc = -0.5 * qb / la2, rc2 = norm2(w0 + xc * da);
   const double kap = prof.kap > 0.0 ? prof.kap : 0.0;
   const double kh = 0.5 * kap, kd = kap * prof.invc;
+  const CapProfile cprof = {prof.d2, prof.inv2d, prof.invd, prof.c2, prof.inv2c, kh, kd};
 
   // One pass over the intervals between the break points, in chunks of 8 (one lane each,
   // vectorised; padded with empty intervals at hi), without branches:
@@ -504,7 +502,7 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
   {
     for (int j = 0; j < 8; j++) {
       const double a = brk[c + j], b = brk[c + j + 1];
-      const double hf = 0.5 * (b - a), mf = 0.5 * (b + a);
+      const double mf = 0.5 * (b + a);
       // the regimes of the two weights on the interval (at its middle) and the deficit there
       const double s1m = s10 + s11 * mf, s2m = s20 + s21 * mf;
       const double wa1 = 0.5 + s1m * inv2e, wb1 = 0.5 + (l1 - s1m) * inv2e;
@@ -516,39 +514,12 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
       const double dm = 1.0 - std::min(1.0, std::max(0.0, w1)) - std::min(1.0, std::max(0.0, w2)) -
           DEFICIT_TOL;    // round-off of straight chains
       const double dsl = -(sg1 * s11 + sg2 * s21) * inv2e;
-      // its positive part: the piece, split at the zero where the deficit changes sign
-      const double fa = dm - dsl * hf, fb = dm + dsl * hf;
-      const double x = std::min(b, std::max(a, mf - dm / dsl));
-      const double pa = ((fa < 0.0) & (fb > 0.0)) ? x : a, pb = ((fa > 0.0) & (fb < 0.0)) ? x : b;
-      const double half = 0.5 * (pb - pa), mid = 0.5 * (pb + pa);
-      const double defmid = dm + dsl * (mid - mf);
-      const double hw = ((half > 0.0) & (defmid > 0.0)) ? half : 0.0;    // om = hw gw
-      double sal = 0.0, sax = 0.0, saxx = 0.0, seps = 0.0, sbt = 0.0, sbx = 0.0;
-      for (int qd = 0; qd < 4; qd++) {
-        const double y = half * gx[qd], xi = mid + y, t = xi - xc;
-        const double r2 = rc2 + la2 * (t * t);
-        // energy density hh of the node's sphere (with the core; its term vanishes by itself
-        // outside the core) and hd = -2 d(hh)/d(r^2)
-        const double h = std::max(0.0, (prof.d2 - r2) * prof.inv2d);
-        const double hc = std::max(0.0, (prof.c2 - r2) * prof.inv2c);
-        const double hh = 0.5 * h * h + kh * hc * hc;
-        const double hd = h * prof.invd + kd * hc;
-        // the deficit enters squared, so that the energy is smooth (C1) where a chain passes
-        // through straight (the deficit grows like the kink angle)
-        const double def = std::max(0.0, defmid + dsl * y);
-        const double od = (hw * gw[qd]) * def, odd = od * def;
-        const double al = odd * hd, bt = od * hh;    // alpha; om ddp / 2
-        const double ax = al * xi;
-        sal += al;
-        sax += ax;
-        saxx += ax * xi;
-        seps += odd * hh;
-        sbt += bt;
-        sbx += bt * xi;
-      }
-      const double sb1 = sg1 * sbt, sb2 = sg2 * sbt;
-      const double v[NM] = {sal,       sax,       saxx, seps,      sb1,
-                            sg1 * sb1, sg1 * sbx, sb2,  sg2 * sb2, sg2 * sbx};
+      // its positive part, integrated (4-point Gauss: the integrand, deficit^2 h^2, and its
+      // gradient have degree <= 7 on each piece)
+      const CapPiece pc = cap_piece(a, b, dm, dsl, xc, rc2, la2, cprof);
+      const double sb1 = sg1 * pc.bt, sb2 = sg2 * pc.bt;
+      const double v[NM] = {pc.al,     pc.ax,       pc.axx, pc.ep,     sb1,
+                            sg1 * sb1, sg1 * pc.bx, sb2,    sg2 * sb2, sg2 * pc.bx};
       for (int m = 0; m < NM; m++) acc[m][j] = first ? v[m] : acc[m][j] + v[m];
     }
   };
