@@ -5,6 +5,7 @@
 // brute-force quadrature of their energy.
 
 #include "ncf_contact.h"
+#include "ncf_random_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -540,14 +541,6 @@ struct CapReference {
   }
 };
 
-Vec3 random_unit(std::mt19937 &rng)
-{
-  std::normal_distribution<double> g(0.0, 1.0);
-  Vec3 v;
-  do v = Vec3(g(rng), g(rng), g(rng));
-  while (NCF::norm(v) < 1e-3);
-  return (1.0 / NCF::norm(v)) * v;
-}
 }    // namespace
 
 TEST(NodeContact, MatchesBruteForceQuadrature)
@@ -566,17 +559,14 @@ TEST(NodeContact, MatchesBruteForceQuadrature)
   for (int trial = 0; trial < 5000 && tested < 300; trial++) {
     trials++;
     const double kink = (M_PI / 3.0) * u(rng), core = (trial % 2) ? NCF::DEFAULT_CORE : 0.0;
-    const Vec3 t = random_unit(rng);
-    const Vec3 v = random_unit(rng), b = v - NCF::dot(v, t) * t;
-    const Vec3 bn = (1.0 / NCF::norm(b)) * b;    // normal to t, in the plane of the kink
-    const Vec3 e1 = std::cos(0.5 * kink) * t + std::sin(0.5 * kink) * bn;
-    const Vec3 e2 = std::cos(0.5 * kink) * t - std::sin(0.5 * kink) * bn;    // convex side: +bn
+    const NCF_TEST::Kink kk = NCF_TEST::random_kink(rng, kink);
+    const Vec3 &e1 = kk.e1, &e2 = kk.e2, &bn = kk.bn;    // convex side: +bn
     const double l1 = lengths[rng() % 4], l2 = lengths[rng() % 4], la = alengths[rng() % 3];
     const Vec3 n(1e-4 * u(rng), 1e-4 * u(rng), 1e-4 * u(rng));
     // A through a point within about D of n, mostly on the convex side
-    Vec3 off = random_unit(rng);
+    Vec3 off = NCF_TEST::random_unit_vector(rng);
     if (trial % 5) off = (1.0 / NCF::norm(bn + 0.8 * off)) * (bn + 0.8 * off);
-    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off, dir = random_unit(rng);
+    const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off, dir = NCF_TEST::random_unit_vector(rng);
     const Vec3 a0 = c - (la * u(rng)) * dir;
     const Vec3 x[5] = {a0, a0 + la * dir, n - l1 * e1, n, n + l2 * e2};
 

@@ -6,6 +6,7 @@
 // in the core, nearly and exactly parallel pairs, short segments and touching axes.
 
 #include "ncf_contact.h"
+#include "ncf_random_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -250,15 +251,6 @@ struct Cap {
   Vec3 x[5];    // a0, a1, p, n, q
 };
 
-Vec3 unit_vector(std::mt19937 &rng)
-{
-  std::normal_distribution<double> g(0.0, 1.0);
-  Vec3 v;
-  do v = Vec3(g(rng), g(rng), g(rng));
-  while (NCF::norm(v) < 1e-3);
-  return (1.0 / NCF::norm(v)) * v;
-}
-
 // Random caps: a kink of up to max_kink at n (chain p-n-q), chain segments and A of the lengths
 // given (each drawn from the list, times 1 +- 30 % when jitter), A through a point within about D
 // of n, mostly on the convex side of the kink, in any direction (some exactly perpendicular or
@@ -272,20 +264,17 @@ std::vector<Cap> random_caps(int count, unsigned seed, double max_kink,
   std::vector<Cap> out;
   for (int k = 0; k < count; k++) {
     const double kink = max_kink * u(rng);
-    const Vec3 t = unit_vector(rng);
-    const Vec3 v = unit_vector(rng), b = v - NCF::dot(v, t) * t;
-    const Vec3 bn = (1.0 / NCF::norm(b)) * b;    // normal to t, in the plane of the kink
-    const Vec3 e1 = std::cos(0.5 * kink) * t + std::sin(0.5 * kink) * bn;
-    const Vec3 e2 = std::cos(0.5 * kink) * t - std::sin(0.5 * kink) * bn;    // convex side: +bn
+    const NCF_TEST::Kink kk = NCF_TEST::random_kink(rng, kink);
+    const Vec3 &e1 = kk.e1, &e2 = kk.e2, &bn = kk.bn;    // convex side: +bn
     auto draw = [&](const std::vector<double> &from) {
       return from[rng() % from.size()] * (jitter ? 1.0 + 0.3 * (2.0 * u(rng) - 1.0) : 1.0);
     };
     const double l1 = draw(lengths), l2 = draw(lengths), la = draw(alengths);
     const Vec3 n(1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng));
-    Vec3 off = unit_vector(rng);
+    Vec3 off = NCF_TEST::random_unit_vector(rng);
     if (k % 5) off = (1.0 / NCF::norm(bn + 0.8 * off)) * (bn + 0.8 * off);
     const Vec3 c = n + (D * (0.1 + 0.95 * u(rng))) * off;
-    Vec3 dir = unit_vector(rng);
+    Vec3 dir = NCF_TEST::random_unit_vector(rng);
     // one in seven perpendicular to a chain segment (its arc position constant along A), one in
     // seven parallel to it
     const Vec3 ek = (k / 7) % 2 ? e1 : e2;
