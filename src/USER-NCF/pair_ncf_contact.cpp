@@ -1398,8 +1398,24 @@ void PairNCFContact::compute(int eflag, int vflag)
   bool lane_had[NCF::CONTACT_BATCH], lane_ext[NCF::CONTACT_BATCH];
   bool lane_go[NCF::CONTACT_BATCH], lane_fric[NCF::CONTACT_BATCH];
   double lane_pen[NCF::CONTACT_BATCH];
+  // the lanes whose segments are extended at free chain ends (lane_ext), in a list: filled with
+  // the nodes' positions like the others, then extended here, so that the filling has no branch
+  // on it (they are few and scattered)
+  int ext_lane[NCF::CONTACT_BATCH], next = 0;
   batch.n = 0;
   auto flush = [&]() {
+    for (int k = 0; k < next; k++) {
+      const int l = ext_lane[k];
+      EntryNodes en = nodes_of(plist[lane_e[l]]);
+      NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
+      NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
+      for (int m = 0; m < 4; m++) {
+        batch.x[3 * m][l] = en.x[m].x;
+        batch.x[3 * m + 1][l] = en.x[m].y;
+        batch.x[3 * m + 2][l] = en.x[m].z;
+      }
+    }
+    next = 0;
     NCF::segment_contact_batch(batch, core);
     // The lanes in contact (status 1) go on, those with friction with their slip; the others are
     // no contact (0) or left to the scalar law (-1). Flags first, without branches; then the few
@@ -1451,9 +1467,14 @@ void PairNCFContact::compute(int eflag, int vflag)
     Row *const fa = f;
     double *const fc = fatom_flag ? fcon.data() : nullptr;
     double nc = ncontact, ps = pensum, pm = penmax, ev = eng_vdwl;
+    // (the lanes in contact listed first, without branches: which are is unpredictable)
+    int go_lane[NCF::CONTACT_BATCH], ngo = 0;
     for (int l = 0; l < batch.n; l++) {
-      if (!lane_go[l]) continue;
-      const int e = lane_e[l];
+      go_lane[ngo] = l;
+      ngo += lane_go[l];
+    }
+    for (int k = 0; k < ngo; k++) {
+      const int l = go_lane[k], e = lane_e[l];
       double espring = 0.0;
       if (lane_fric[l]) {
         // kept (also a zero slip: the contact exists)
@@ -1521,21 +1542,13 @@ void PairNCFContact::compute(int eflag, int vflag)
     // in both cases, and the lane is not filled in vain in the second)
     if (!(pc.gap - close < 0.0)) continue;
     nkept++;
-    // segments at free chain ends enter extended (end caps), mapped back after the law
+    // segments at free chain ends enter extended (end caps; extended in flush), mapped back
+    // after the law
     lane_ext[l] = pc.ext;
-    if (lane_ext[l]) {
-      EntryNodes en = nodes_of(pc);
-      NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
-      NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
-      for (int m = 0; m < 4; m++) {
-        batch.x[3 * m][l] = en.x[m].x;
-        batch.x[3 * m + 1][l] = en.x[m].y;
-        batch.x[3 * m + 2][l] = en.x[m].z;
-      }
-    } else {
-      for (int m = 0; m < 4; m++)
-        for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
-    }
+    ext_lane[next] = l;
+    next += pc.ext;
+    for (int m = 0; m < 4; m++)
+      for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
     if (!uniform) set_coefficients(l, tpar[pc.tp]);
     if (use_velocity)
       for (int m = 0; m < 4; m++)
@@ -1543,9 +1556,13 @@ void PairNCFContact::compute(int eflag, int vflag)
     lane_e[l] = e;
     if (use_history) {
       // the slip of the last step (zero if the pair was not in contact), used only with friction
+      // (read whether used or not, so that the choice is a select, not a mispredicted branch)
       const bool had = has_rd[e] != 0;
       const double *sr = slip_rd + 3 * (size_t) e;
-      for (int d = 0; d < 3; d++) tbatch.slip[d][l] = had ? sr[d] : 0.0;
+      const double s0 = sr[0], s1 = sr[1], s2 = sr[2];
+      tbatch.slip[0][l] = had ? s0 : 0.0;
+      tbatch.slip[1][l] = had ? s1 : 0.0;
+      tbatch.slip[2][l] = had ? s2 : 0.0;
       lane_had[l] = had;
     } else {
       for (int d = 0; d < 3; d++) tbatch.slip[d][l] = 0.0;
@@ -1601,9 +1618,15 @@ void PairNCFContact::compute(int eflag, int vflag)
       cbatch.set(l, xof(cc.a0), xof(cc.a1), xof(cc.p), xof(cc.n), xof(cc.q), tp.dc, tp.kn, tp.ramp);
     }
     NCF::node_contact_batch(cbatch, core);
+    // (the caps in contact or left to node_contact listed first, without branches)
+    int act[NCF::CAP_BATCH], nact = 0;
     for (int l = 0; l < cbatch.n; l++) {
+      act[nact] = l;
+      nact += cbatch.status[l] != 0.0;
+    }
+    for (int k = 0; k < nact; k++) {
+      const int l = act[k];
       const double st = cbatch.status[l];
-      if (st == 0.0) continue;
       const CapCand &cc = clist[work[w0 + l]];
       const int ids[5] = {cc.a0, cc.a1, cc.p, cc.n, cc.q};
       NCF::NodeContact c;
