@@ -38,11 +38,14 @@ namespace {
     b = hi;
   }
 
-  // The lanes of a batch. FULL false: only the status of each lane, -1 outside the case, 0 where
-  // node_contact returns early (A clear of the sphere, the concave side), -2 where the cap must
-  // be integrated (for the second pass); FULL true: everything.
+  // How cap_lanes computes the lanes of a batch: STATUS only the status of each lane, -1 outside
+  // the case, 0 where node_contact returns early (A clear of the sphere, the concave side), -2
+  // where the cap must be integrated and A's line does not cross the core's boundary, -3 where it
+  // does (for the second pass); FULL everything; FULL_NO_CORE everything, for lanes that all have
+  // status -2.
+  enum CapMode { STATUS, FULL, FULL_NO_CORE };
   // (always inlined, so that each version of node_contact_batch compiles it for its target)
-  template <bool FULL>
+  template <CapMode MODE>
   inline __attribute__((always_inline)) void cap_lanes(CapBatch &__restrict b, double core)
   {
     const double kap = core > 0.0 ? core : 0.0;
@@ -92,8 +95,12 @@ namespace {
       const double g1 = (w0x + hi * dax) * dex + (w0y + hi * day) * dey + (w0z + hi * daz) * dez;
       const double inv2e = 0.5 / es;
       const bool concave = (g0 > g1 ? g0 : g1) * inv2e <= NODE_DEFICIT_TOL;
-      if constexpr (!FULL) {
-        const double st = zone & !concave ? -2.0 : 0.0;
+      // the core's boundary |x - n| = D_c on A's line, if it is crossed
+      const double qcc = qc - cf2 * d2;
+      const double discc = qb * qb - 4.0 * la2s * qcc;
+      const bool hitc = (kap > 0.0) & (discc > 0.0);
+      if constexpr (MODE == STATUS) {
+        const double st = zone & !concave ? (hitc ? -3.0 : -2.0) : 0.0;
         b.status[l] = in_case ? st : -1.0;
         continue;
       }
@@ -115,10 +122,7 @@ namespace {
       };
       double c0 = clampz(((l1 + es) - s10) * i11);
       double c1 = clampz((-es - s20) * i21);
-      // the core's boundary |x - n| = D_c (negative_interval, quadratic case), where it is crossed
-      const double qcc = qc - cf2 * d2;
-      const double discc = qb * qb - 4.0 * la2s * qcc;
-      const bool hitc = (kap > 0.0) & (discc > 0.0);
+      // where the core's boundary is crossed (negative_interval, quadratic case)
       const double sqc = std::sqrt(hitc ? discc : 0.0);
       const double qqc0 = -0.5 * (qb + (qb >= 0.0 ? sqc : -sqc));
       const double qqc = hitc ? qqc0 : 1.0;
@@ -170,8 +174,12 @@ namespace {
         sq2 += sg2 * b2;
         sx2 += sg2 * pc.bx;
       };
-      interval(lo, c0);
-      interval(c0, c1);
+      // (without a crossing of the core, c2 = c3 = lo before the sorting: the first two
+      // intervals are [lo, lo], which add zeros, i.e. change no sum)
+      if constexpr (MODE == FULL) {
+        interval(lo, c0);
+        interval(c0, c1);
+      }
       interval(c1, c2);
       interval(c2, c3);
       interval(c3, hi);
@@ -240,11 +248,17 @@ __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
 void node_contact_batch(CapBatch &b, double core)
 {
-  cap_lanes<false>(b, core);
+  cap_lanes<STATUS>(b, core);
   CapBatch m;
   int lane[CAP_BATCH];
   if (gather_flagged_lanes<15>(b, m, lane) == 0) return;
-  cap_lanes<true>(m, core);
+  // (on a compacted mat A's line seldom crosses a core: most batches without)
+  bool core_crossed = false;
+  for (int j = 0; j < m.n; j++) core_crossed |= m.status[j] == -3.0;
+  if (core_crossed)
+    cap_lanes<FULL>(m, core);
+  else
+    cap_lanes<FULL_NO_CORE>(m, core);
   for (int j = 0; j < m.n; j++) {
     const int l = lane[j];
     b.status[l] = m.status[j];
