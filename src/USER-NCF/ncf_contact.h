@@ -165,26 +165,13 @@ struct ContactBatch {
     c.length = length[lane];
     return c;
   }
-  // the results of a lane replaced by those of c (e.g. a result mapped back by unextend_contact)
-  void set_result(int lane, const SegmentContact &c)
-  {
-    energy[lane] = c.energy;
-    for (int m = 0; m < 4; m++) {
-      f[3 * m][lane] = c.f[m].x;
-      f[3 * m + 1][lane] = c.f[m].y;
-      f[3 * m + 2][lane] = c.f[m].z;
-    }
-    fn[lane] = c.fn;
-    normal[0][lane] = c.normal.x;
-    normal[1][lane] = c.normal.y;
-    normal[2][lane] = c.normal.z;
-    xi[lane] = c.xi;
-    t[lane] = c.t;
-    length[lane] = c.length;
-  }
 };
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);
+// unextend_contact for the contact in lane `lane` of b (its forces and xi, t; the same
+// operations, in place)
+void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                      const double *ext, ContactBatch &b, int lane);
 
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact

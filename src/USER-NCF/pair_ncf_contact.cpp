@@ -1442,11 +1442,8 @@ void PairNCFContact::compute(int eflag, int vflag)
       const PairCand &pc = plist[e];
       if (lane_ext[l] || eng) {
         const EntryNodes en = nodes_of(pc);
-        if (lane_ext[l]) {
-          NCF::SegmentContact c = batch.result(l);
-          NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, c);
-          batch.set_result(l, c);
-        }
+        if (lane_ext[l])
+          NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, batch, l);
         if (eng)
           lane_pen[l] =
               NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
