@@ -1036,6 +1036,27 @@ void PairNCFContact::build_lists()
   }
   pfirst[nlocal] = (int) plist.size();
   if (use_history) load_history();
+
+  // the ghosts that a list entry or cap refers to (the others, beyond the reach of any, need no
+  // node row)
+  std::vector<char> used(nall - nlocal, 0);
+  auto mark = [&](int k) {
+    if (k >= nlocal) used[k - nlocal] = 1;
+  };
+  for (const PairCand &pc : plist) {
+    mark(pc.a1);
+    mark(pc.b0);
+    mark(pc.b1);
+  }
+  for (const CapCand &cc : clist) {
+    mark(cc.a1);
+    mark(cc.p);
+    mark(cc.n);
+    mark(cc.q);
+  }
+  ghosts_used.clear();
+  for (int k = nlocal; k < nall; k++)
+    if (used[k - nlocal]) ghosts_used.push_back(k);
 }
 
 /* ----------------------------------------------------------------------
@@ -1162,9 +1183,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   const double *const XB = xbuild.data();
   const double *const EX = endext.data();
   const bool copy_v = use_velocity;
-  auto pack = [&](int k0, int k1) {
+  auto pack = [&](int n, auto &&node) {
     double d2max = 0.0;
-    for (int k = k0; k < k1; k++) {
+    for (int i = 0; i < n; i++) {
+      const int k = node(i);
       const double *xb = XB + 3 * (size_t) k;
       const double dx = x[k][0] - xb[0], dy = x[k][1] - xb[1], dz = x[k][2] - xb[2];
       const double d2 = dx * dx + dy * dy + dz * dz;
@@ -1183,7 +1205,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     return d2max;
   };
-  double dmove2 = pack(0, nlocal);
+  double dmove2 = pack(nlocal, [](int i) {
+    return i;
+  });
   // the lists rely on LAMMPS reneighbouring before any node has moved more than skin/2
   // (neigh_modify every 1 delay 0 check yes, the default); otherwise contacts could be missed
   if (dmove2 > 0.25 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))
@@ -1192,7 +1216,11 @@ void PairNCFContact::compute(int eflag, int vflag)
                "half the neighbour skin {:.6g}; its contact lists could miss contacts. Use "
                "'neigh_modify every 1 delay 0 check yes' (the default) or a larger skin",
                std::sqrt(dmove2), neighbor->skin);
-  const double dmove2_ghost = pack(nlocal, nall);    // (not inside MAX: it would run twice)
+  // of the ghosts only those a list entry or cap refers to (the others' rows are never read)
+  const int *const GU = ghosts_used.data();
+  const double dmove2_ghost = pack((int) ghosts_used.size(), [GU](int i) {
+    return GU[i];
+  });    // (not inside MAX: it would run twice)
   dmove2 = MAX(dmove2, dmove2_ghost);
   // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its

@@ -138,6 +138,7 @@ class PairNCFContact : public Pair {
   std::vector<PairCand> plist;
   double lseg_build;    // longest owned segment at the build
   std::vector<CapCand> clist;
+  std::vector<int> ghosts_used;    // the ghosts that an entry of plist or clist refers to
   bool lists_valid;
   bigint lists_ncalls;
   int lists_nlocal, lists_nall;
