@@ -396,13 +396,17 @@ void BondNCFChain::compute(int eflag, int vflag)
 
   // the reference lengths in the order of the bond list, looked up again whenever LAMMPS has
   // rebuilt the list (and after every init)
+  // (and their stiffnesses, which change only with the coefficients: bond_coeff is followed by an
+  // init, which asks for a refill)
   if (l0_ncalls != neighbor->ncalls || (int) l0_list.size() != nbondlist) {
     l0_list.resize(nbondlist);
+    k_list.resize(nbondlist);
     for (int n = 0; n < nbondlist; n++) {
       const int i1 = bondlist[n][0], i2 = bondlist[n][1];
       l0_list[n] = reference_length(i1, i2);
       if (l0_list[n] <= 0.0)
         error->one(FLERR, "bond ncf/chain: bond {}-{} has no reference length", tag[i1], tag[i2]);
+      k_list[n] = NCF::rod_stiffness(rod(bondlist[n][2]), l0_list[n]);
     }
     l0_ncalls = neighbor->ncalls;
   }
@@ -415,7 +419,8 @@ void BondNCFChain::compute(int eflag, int vflag)
     const double dely = x[i1][1] - x[i2][1];
     const double delz = x[i1][2] - x[i2][2];
     const double r = sqrt(delx * delx + dely * dely + delz * delz);
-    const NCF::RodResult res = NCF::rod_force(rod(type), l0, r);
+    // (the shrink factor changes during a run: fix ncf/shrink)
+    const NCF::RodResult res = NCF::rod_force(k_list[n], l0 * (1.0 - shrink[type]), r);
     const double fbond = res.fpair;
 
     if (newton_bond || i1 < nlocal) {

@@ -64,9 +64,10 @@ class BondNCFChain : public Bond {
   int comm_mode;
   std::vector<double> ksum;    // per atom: sum of attached bond stiffnesses (time-step estimate)
 
-  int idx_dtag, idx_l0;           // indices of the custom per-atom arrays of the store
-  std::vector<double> l0_list;    // reference length per entry of LAMMPS's bond list
-  bigint l0_ncalls;               // neighbor->ncalls when l0_list was filled (-1: refill)
+  int idx_dtag, idx_l0;                     // indices of the custom per-atom arrays of the store
+  std::vector<double> l0_list;              // reference length per entry of LAMMPS's bond list
+  std::vector<NCF::RodStiffness> k_list;    // its stiffness (with l0_list)
+  bigint l0_ncalls;                         // neighbor->ncalls when l0_list was filled (-1: refill)
 
   void allocate();
   void create_store();

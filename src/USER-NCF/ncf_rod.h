@@ -8,6 +8,8 @@
 #define NCF_ROD_H
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace NCF {
 
@@ -32,18 +34,49 @@ struct RodResult {
   double energy = 0.0;    // stored elastic energy
 };
 
-// r: current node distance (> 0 for a defined direction), l0: reference length (> 0).
-inline RodResult rod_force(const RodParams &p, double l0, double r)
+// The stiffness of an element of reference length l0: k = EA / L0 in tension, k * compression
+// in compression (fixed between changes of the coefficients, so a caller may keep it per element)
+struct RodStiffness {
+  double k = 0.0, kc = 0.0;
+};
+inline RodStiffness rod_stiffness(const RodParams &p, double l0)
+{
+  const double k = p.ea / l0;
+  return {k, k * p.compression};
+}
+
+// a if c, else b, without a branch (whether an element is stretched or compressed is
+// unpredictable from one to the next)
+inline double select_bits(bool c, double a, double b)
+{
+  std::uint64_t ia, ib;
+  std::memcpy(&ia, &a, sizeof ia);
+  std::memcpy(&ib, &b, sizeof ib);
+  const std::uint64_t m = std::uint64_t(0) - std::uint64_t(c);
+  const std::uint64_t ir = (ia & m) | (ib & ~m);
+  double out;
+  std::memcpy(&out, &ir, sizeof out);
+  return out;
+}
+
+// s: stiffness (rod_stiffness), lrest: rest length L0 (1 - s), r: current node distance (> 0 for
+// a defined direction).
+inline RodResult rod_force(const RodStiffness &s, double lrest, double r)
 {
   RodResult out;
-  const double k = p.ea / l0;
-  const double dr = r - l0 * (1.0 - p.shrink);
-  const double kk = (dr < 0.0) ? k * p.compression : k;
+  const double dr = r - lrest;
+  const double kk = select_bits(dr < 0.0, s.kc, s.k);
   out.axial = kk * dr;
   out.energy = 0.5 * kk * dr * dr;
   // the direction is undefined at r = 0: no force, the energy stays defined
   out.fpair = (r > 0.0) ? -out.axial / r : 0.0;
   return out;
+}
+
+// r: current node distance (> 0 for a defined direction), l0: reference length (> 0).
+inline RodResult rod_force(const RodParams &p, double l0, double r)
+{
+  return rod_force(rod_stiffness(p, l0), l0 * (1.0 - p.shrink), r);
 }
 
 // Critical (CFL) time step of an explicit central-difference integration for one element with
