@@ -330,6 +330,9 @@ namespace {
   void unextend(const Vec3 &p0, const Vec3 &p1, double e0, double e1, Vec3 &f0, Vec3 &f1,
                 double &param)
   {
+    // (a segment not extended keeps its forces and parameter as they are, bit for bit; usually
+    // only one of the two segments of a contact at a free end is)
+    if (e0 == 0.0 && e1 == 0.0) return;
     const Vec3 u = p1 - p0;
     const double l = norm(u);
     if (!(l > 0.0)) return;
