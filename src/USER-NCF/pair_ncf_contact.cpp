@@ -117,6 +117,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lists_nlocal = lists_nall = -1;
   lseg_build = 0.0;
   keep_last = 1.0;
+  nall_build = 0;
   hlast = 0;
   rows_current = true;
   nextra = 4;
@@ -582,7 +583,7 @@ const double *PairNCFContact::find_slip_entry(int m, tagint ohi, tagint blo, tag
   for (int e = pfirst[m]; e < pfirst[m + 1]; e++) {
     if (!has[e]) continue;
     const PairCand &pc = plist[e];
-    if (tag[pc.a1] == ohi && tag[pc.b0] == blo && tag[pc.b1] == bhi)
+    if (tag[real_of(pc.a1)] == ohi && tag[real_of(pc.b0)] == blo && tag[real_of(pc.b1)] == bhi)
       return &pslip[hlast][3 * (size_t) e];
   }
   return nullptr;
@@ -1057,6 +1058,35 @@ void PairNCFContact::build_lists()
   ghosts_used.clear();
   for (int k = nlocal; k < nall; k++)
     if (used[k - nlocal]) ghosts_used.push_back(k);
+
+  // The segments at free chain ends enter the law extended (end caps): the free end k by
+  // endext[k] along its segment. In the pair list entries such a node is replaced by a virtual
+  // node (index nall + v), whose row holds the extended end (its position and velocity, from
+  // those of k and its chain neighbour; compute) and which collects the contact forces on it,
+  // mapped back onto k and the neighbour at the end of the step (the chain rule). So the lanes
+  // of the batched law need no extension and no mapping back of their own. (Its displacement
+  // bound is that of k: the gaps and growth bounds of the list already count the extension.)
+  nall_build = nall;
+  vreal.clear();
+  vnbr.clear();
+  std::vector<int> vof(nall, -1);
+  for (PairCand &pc : plist) {
+    if (!pc.ext) continue;
+    const int node[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+    int *slot[4] = {&pc.a0, &pc.a1, &pc.b0, &pc.b1};
+    for (int m = 0; m < 4; m++) {
+      const int k = node[m], j = node[m ^ 1];    // the segment's other node
+      if (endext[k] == 0.0) continue;
+      if (vof[k] < 0) {
+        vof[k] = (int) vreal.size();
+        vreal.push_back(k);
+        vnbr.push_back(j);
+      } else if (vnbr[vof[k]] != j)
+        error->one(FLERR, "pair ncf/contact: free chain end {} has two different neighbours {}, {}",
+                   tag[k], tag[vnbr[vof[k]]], tag[j]);
+      *slot[m] = nall + vof[k];
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -1083,7 +1113,7 @@ void PairNCFContact::load_history()
   for (size_t e = 0; e < np; e++) {
     const PairCand &pc = plist[e];
     if (hist[pc.a0][0] == 0.0) continue;
-    const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);
+    const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);    // (real)
     if (!old) continue;
     memcpy(&pslip[0][3 * e], old, 3 * sizeof(double));
     phas[0][e] = 1;
@@ -1119,9 +1149,9 @@ void PairNCFContact::store_history(int b)
       const PairCand &pc = plist[e];
       double *h = row + 1 + 6 * n;
       // the slot: key of A's partner and of B, then the slip
-      h[0] = (double) tag[pc.a1];
-      h[1] = (double) tag[pc.b0];
-      h[2] = (double) tag[pc.b1];
+      h[0] = (double) tag[real_of(pc.a1)];
+      h[1] = (double) tag[real_of(pc.b0)];
+      h[2] = (double) tag[real_of(pc.b1)];
       memcpy(h + 3, slip + 3 * (size_t) e, 3 * sizeof(double));
       n++;
     }
@@ -1162,7 +1192,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     lists_nlocal = nlocal;
     lists_nall = nall;
   }
-  if (fatom_flag) fcon.assign(3 * (size_t) nall, 0.0);
+  // (virtual nodes at free chain ends: build_lists)
+  const int nvirt = (int) vreal.size();
+  fvirt.assign(3 * (size_t) nvirt, 0.0);
+  if (fatom_flag) fcon.assign(3 * (size_t) (nall + nvirt), 0.0);
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
@@ -1173,10 +1206,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   // Per node, one cache line of 8 doubles (x, y, z, displacement bound, vx, vy, vz, end-cap
   // extension), so that the random accesses of the list loops fetch one line per node.
   constexpr int NR = 8;
-  xd.resize(NR * (size_t) nall + NR);
+  xd.resize(NR * (size_t) (nall + nvirt) + NR);
   double *const X = xd.data() + ((64 - ((uintptr_t) xd.data() & 63)) & 63) / sizeof(double);
   // and the displacement bounds again in one dense array (the filter of many entries, below)
-  dmn.resize(nall);
+  dmn.resize(nall + nvirt);
   double *const DM = dmn.data();
   // (relative margin for the round-off of the distances)
   const double dm_margin = 0.5e-12 * reach_max;
@@ -1222,6 +1255,30 @@ void PairNCFContact::compute(int eflag, int vflag)
     return GU[i];
   });    // (not inside MAX: it would run twice)
   dmove2 = MAX(dmove2, dmove2_ghost);
+  // the rows of the virtual nodes: the free end k moved by its extension e along its segment,
+  // x = x_k + e u (u: unit vector from its neighbour j to k), velocity v_k + e du/dt with
+  // du/dt = (I - u u^T)(v_k - v_j) / l; the displacement bound of k
+  for (int vn = 0; vn < nvirt; vn++) {
+    const int k = vreal[vn], j = vnbr[vn];
+    double *xv = X + NR * (size_t) (nall + vn);
+    const double e = EX[k];
+    const double ux = x[k][0] - x[j][0], uy = x[k][1] - x[j][1], uz = x[k][2] - x[j][2];
+    const double l = std::sqrt(ux * ux + uy * uy + uz * uz);
+    const double il = l > 0.0 ? 1.0 / l : 0.0;
+    const double ex = il * ux, ey = il * uy, ez = il * uz;
+    xv[0] = x[k][0] + e * ex;
+    xv[1] = x[k][1] + e * ey;
+    xv[2] = x[k][2] + e * ez;
+    xv[3] = DM[nall + vn] = DM[k];
+    if (copy_v) {
+      const double dvx = v[k][0] - v[j][0], dvy = v[k][1] - v[j][1], dvz = v[k][2] - v[j][2];
+      const double dvn = dvx * ex + dvy * ey + dvz * ez, s = e * il;
+      xv[4] = v[k][0] + s * (dvx - dvn * ex);
+      xv[5] = v[k][1] + s * (dvy - dvn * ey);
+      xv[6] = v[k][2] + s * (dvz - dvn * ez);
+    }
+    xv[7] = 0.0;
+  }
   // twice the largest bound of a node: not below the bound of any pair or cap (computed the same
   // way, and doubling is exact), so a pair beyond the largest reach by it is skipped before its
   // node data are loaded
@@ -1279,14 +1336,28 @@ void PairNCFContact::compute(int eflag, int vflag)
       return ext[0] != 0.0 || ext[1] != 0.0 || ext[2] != 0.0 || ext[3] != 0.0;
     }
   };
+  // (the nodes of the lanes: the ends of segments at free chain ends are virtual nodes, whose
+  // rows hold the extended ends, so no extension is left: ext 0)
   auto nodes_of = [&](const PairCand &pc) {
     EntryNodes en;
     const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
     for (int m = 0; m < 4; m++) {
       en.x[m] = Vec3(xof(ids[m]));
-      en.ext[m] = xof(ids[m])[7];
+      en.ext[m] = 0.0;
     }
     return en;
+  };
+  // the penetration of the chains themselves (their real nodes: two extended tips may overlap
+  // without any chain coming closer to another)
+  auto real_penetration = [&](const PairCand &pc) {
+    const int ids[4] = {real_of(pc.a0), real_of(pc.a1), real_of(pc.b0), real_of(pc.b1)};
+    return NCF::segment_penetration(Vec3(x[ids[0]]), Vec3(x[ids[1]]), Vec3(x[ids[2]]),
+                                    Vec3(x[ids[3]]), tpar[pc.tp].dc);
+  };
+  // where the force on node k of a list entry goes: LAMMPS's array, or that of the virtual nodes
+  double *const FV = fvirt.data();
+  auto fdst = [f, FV, nall](int k) -> double * {
+    return k < nall ? f[k] : FV + 3 * (size_t) (k - nall);
   };
   // The contact of a list entry by the scalar law (deferred take-overs) in three parts: prepare
   // (bookkeeping, bounds, prefilter; false if the law need not be evaluated), the law, finish
@@ -1327,7 +1398,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     }
     slip[0] = slip[1] = slip[2] = 0.0;
     const PairCand &pc = plist[e];
-    if (!inherit_slip(tag[pc.a0], tag[pc.a1], tag[pc.b0], tag[pc.b1], slip, may_defer)) {
+    if (!inherit_slip(tag[real_of(pc.a0)], tag[real_of(pc.a1)], tag[real_of(pc.b0)],
+                      tag[real_of(pc.b1)], slip, may_defer)) {
       deferred.push_back(e);
       return nullptr;
     }
@@ -1339,9 +1411,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const PairCand &pc = plist[e];
     const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
     for (int k = 0; k < 4; k++) {
-      f[nodes[k]][0] += fs(k, 0);
-      f[nodes[k]][1] += fs(k, 1);
-      f[nodes[k]][2] += fs(k, 2);
+      double *fk = fdst(nodes[k]);
+      fk[0] += fs(k, 0);
+      fk[1] += fs(k, 1);
+      fk[2] += fs(k, 2);
       if (fatom_flag) {
         fcon[3 * nodes[k] + 0] += fs(k, 0);
         fcon[3 * nodes[k] + 1] += fs(k, 1);
@@ -1385,7 +1458,7 @@ void PairNCFContact::compute(int eflag, int vflag)
         [&c](int m, int d) {
           return c.f[m][d];
         },
-        c.energy + espring, c.penetration);
+        c.energy + espring, (pc.ext && eflag_global) ? real_penetration(pc) : c.penetration);
     return false;
   };
   auto pair_contact = [&](int e, bool may_defer) -> bool {
@@ -1423,32 +1496,16 @@ void PairNCFContact::compute(int eflag, int vflag)
   // vector instruction and hands the others back to the scalar law (NCF::segment_contact_batch),
   // then the contacts through the batched dashpot and friction (NCF::tangential_batch)
   int lane_e[NCF::CONTACT_BATCH];
-  bool lane_had[NCF::CONTACT_BATCH], lane_ext[NCF::CONTACT_BATCH];
+  bool lane_had[NCF::CONTACT_BATCH];
   bool lane_go[NCF::CONTACT_BATCH], lane_fric[NCF::CONTACT_BATCH];
   double lane_pen[NCF::CONTACT_BATCH];
-  // the lanes whose segments are extended at free chain ends (lane_ext), in a list: filled with
-  // the nodes' positions like the others, then extended here, so that the filling has no branch
-  // on it (they are few and scattered)
-  int ext_lane[NCF::CONTACT_BATCH], next = 0;
   batch.n = 0;
   auto flush = [&]() {
-    for (int k = 0; k < next; k++) {
-      const int l = ext_lane[k];
-      EntryNodes en = nodes_of(plist[lane_e[l]]);
-      NCF::extend_segment(en.x[0], en.x[1], en.ext[0], en.ext[1]);
-      NCF::extend_segment(en.x[2], en.x[3], en.ext[2], en.ext[3]);
-      for (int m = 0; m < 4; m++) {
-        batch.x[3 * m][l] = en.x[m].x;
-        batch.x[3 * m + 1][l] = en.x[m].y;
-        batch.x[3 * m + 2][l] = en.x[m].z;
-      }
-    }
-    next = 0;
     NCF::segment_contact_batch(batch, core);
     // The lanes in contact (status 1) go on, those with friction with their slip; the others are
     // no contact (0) or left to the scalar law (-1). Flags first, without branches; then the few
-    // lanes that need more: the scalar law, the mapping back at free chain ends, the penetration
-    // output, the slip a new contact with friction takes over (or its entry deferred)
+    // lanes that need more: the scalar law, the penetration output, the slip a new contact with
+    // friction takes over (or its entry deferred)
     const bool hist = use_history, eng = eflag_global != 0;
     int special[NCF::CONTACT_BATCH], nspecial = 0;
     for (int l = 0; l < batch.n; l++) {
@@ -1459,7 +1516,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       lane_fric[l] = fric;
       lane_pen[l] = 0.0;
       special[nspecial] = l;
-      nspecial += (st < 0.0) | (go & (lane_ext[l] | eng | (fric & !lane_had[l])));
+      nspecial += (st < 0.0) | (go & (eng | (fric & !lane_had[l])));
     }
     for (int k = 0; k < nspecial; k++) {
       const int l = special[k], e = lane_e[l];
@@ -1467,15 +1524,7 @@ void PairNCFContact::compute(int eflag, int vflag)
         finish(e, law(e), lane_had[l], use_history);
         continue;
       }
-      const PairCand &pc = plist[e];
-      if (lane_ext[l] || eng) {
-        const EntryNodes en = nodes_of(pc);
-        if (lane_ext[l])
-          NCF::unextend_contact(en.x[0], en.x[1], en.x[2], en.x[3], en.ext, batch, l);
-        if (eng)
-          lane_pen[l] =
-              NCF::segment_penetration(en.x[0], en.x[1], en.x[2], en.x[3], tpar[pc.tp].dc);
-      }
+      if (eng) lane_pen[l] = real_penetration(plist[e]);
       // (the slip of the last step is in the lane already; the new one is written after it)
       if (lane_fric[l] && !lane_had[l]) {
         const double *slip = start_slip(e, false, use_history);
@@ -1489,7 +1538,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (use_velocity) NCF::tangential_batch(batch, tbatch, dt);
     // the contacts' slips kept and forces added (as apply does, with the counters in locals, so
     // that they stay in registers; the same operations in the same order)
-    Row *const fa = f;
     double *const fc = fatom_flag ? fcon.data() : nullptr;
     double nc = ncontact, ps = pensum, pm = penmax, ev = eng_vdwl;
     // (the lanes in contact listed first, without branches: which are is unpredictable)
@@ -1510,8 +1558,10 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
       const PairCand &pc = plist[e];
       const int nodes[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
-      for (int m = 0; m < 4; m++)
-        for (int d = 0; d < 3; d++) fa[nodes[m]][d] += batch.f[3 * m + d][l];
+      for (int m = 0; m < 4; m++) {
+        double *fm = fdst(nodes[m]);
+        for (int d = 0; d < 3; d++) fm[d] += batch.f[3 * m + d][l];
+      }
       if (fc)
         for (int m = 0; m < 4; m++)
           for (int d = 0; d < 3; d++) fc[3 * nodes[m] + d] += batch.f[3 * m + d][l];
@@ -1567,11 +1617,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     // in both cases, and the lane is not filled in vain in the second)
     if (!(pc.gap - close < 0.0)) continue;
     nkept++;
-    // segments at free chain ends enter extended (end caps; extended in flush), mapped back
-    // after the law
-    lane_ext[l] = pc.ext;
-    ext_lane[next] = l;
-    next += pc.ext;
     for (int m = 0; m < 4; m++)
       for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
     if (!uniform) set_coefficients(l, tpar[pc.tp]);
@@ -1678,6 +1723,35 @@ void PairNCFContact::compute(int eflag, int vflag)
       penmax = MAX(penmax, c.penetration);
     }
   }
+
+  // the forces on the virtual nodes (extended free chain ends) onto their real nodes: the end k
+  // at x_k + e u, u = (x_k - x_j) / l, so F on it gives F + g on k and -g on its neighbour j,
+  // g = (e / l)(F - u (u.F)) (the chain rule; the contact energy depends on x_k and x_j through
+  // the extended end only)
+  auto map_virtual = [&](const double *fv, auto &&dst) {
+    for (int vn = 0; vn < nvirt; vn++) {
+      const int k = vreal[vn], j = vnbr[vn];
+      const double ux = x[k][0] - x[j][0], uy = x[k][1] - x[j][1], uz = x[k][2] - x[j][2];
+      const double l = std::sqrt(ux * ux + uy * uy + uz * uz);
+      const double il = l > 0.0 ? 1.0 / l : 0.0;
+      const double ex = il * ux, ey = il * uy, ez = il * uz;
+      const double *F = fv + 3 * (size_t) vn;
+      const double fu = F[0] * ex + F[1] * ey + F[2] * ez, s = EX[k] * il;
+      const double g[3] = {s * (F[0] - fu * ex), s * (F[1] - fu * ey), s * (F[2] - fu * ez)};
+      double *fk = dst(k), *fj = dst(j);
+      for (int d = 0; d < 3; d++) {
+        fk[d] += F[d] + g[d];
+        fj[d] -= g[d];
+      }
+    }
+  };
+  map_virtual(FV, [f](int k) {
+    return f[k];
+  });
+  if (fatom_flag)
+    map_virtual(fcon.data() + 3 * (size_t) nall, [this](int k) {
+      return fcon.data() + 3 * (size_t) k;
+    });
 
   // this step's history is the last step's of the next (its rows are written when needed)
   if (use_history) {

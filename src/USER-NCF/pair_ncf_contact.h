@@ -139,6 +139,13 @@ class PairNCFContact : public Pair {
   double lseg_build;    // longest owned segment at the build
   std::vector<CapCand> clist;
   std::vector<int> ghosts_used;    // the ghosts that an entry of plist or clist refers to
+  // virtual nodes: the extended ends of segments at free chain ends, which replace those ends in
+  // plist (index nall_build + v): the free end and its chain neighbour; the forces on them
+  std::vector<int> vreal, vnbr;
+  int nall_build;
+  std::vector<double> fvirt;
+  // the atom index of a node of a pair list entry (the free end for a virtual node)
+  int real_of(int k) const { return k < nall_build ? k : vreal[k - nall_build]; }
   bool lists_valid;
   bigint lists_ncalls;
   int lists_nlocal, lists_nall;

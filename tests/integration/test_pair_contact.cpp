@@ -114,6 +114,43 @@ TEST(PairContact, EnergyGradientThroughLammps)
   }
 }
 
+// Two chains crossing beyond their free ends, inside the end caps only (0.2 D beyond one end,
+// 0.25 D beyond the other): the forces, which the style puts on the extended ends and maps back
+// onto the end nodes and their neighbours, are -dE/dx there and balance
+TEST(PairContact, EnergyGradientAtFreeChainEnds)
+{
+  auto dir = scratch_dir("contact_fd_ends");
+  const double h = 5 * MESH, gap = 0.85 * DIAM;
+  const double xc = h + 0.2 * DIAM, yend = -0.25 * DIAM;
+  auto a = straight({-h, 0.0, 0.0}, {h, 0.0, 0.0}, 10);
+  auto b = straight({xc, yend - 2 * h, gap}, {xc, yend, gap}, 10);
+  b.x[9][0] += 3e-6;    // the last segment of b a little askew
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/e.data", {a, b}, Box(), NODE_MASS)));
+  l.cmd("run 0");
+  ASSERT_GE(l.value("c_pc[1]"), 1.0);
+  ASSERT_GT(l.value("evdwl"), 0.0);
+  auto f = l.forces();
+  auto x0 = l.positions();
+  double fmax = 0.0;
+  for (double v : f) fmax = std::max(fmax, std::fabs(v));
+  for (int d = 0; d < 3; d++) EXPECT_NEAR(sum_over(f, 1, 22, d), 0.0, 1e-9 * fmax) << d;
+  const double hh = 1e-10;
+  for (int id : {10, 11, 21, 22}) {
+    for (int d = 0; d < 3; d++) {
+      const double xi = x0[3 * (id - 1) + d];
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi + hh));
+      l.cmd("run 0");
+      const double ep = l.value("pe");
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi - hh));
+      l.cmd("run 0");
+      const double em = l.value("pe");
+      l.cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[d], xi));
+      EXPECT_NEAR(f[3 * (id - 1) + d], -(ep - em) / (2 * hh), 1e-5 * fmax) << id << " " << d;
+    }
+  }
+}
+
 TEST(PairContact, SameForcesAcrossPeriodicBoundary)
 {
   // the crossing scene in the middle of a periodic box and shifted so that the crossing and
