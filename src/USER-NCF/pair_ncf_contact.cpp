@@ -1257,7 +1257,9 @@ void PairNCFContact::compute(int eflag, int vflag)
   dmove2 = MAX(dmove2, dmove2_ghost);
   // the rows of the virtual nodes: the free end k moved by its extension e along its segment,
   // x = x_k + e u (u: unit vector from its neighbour j to k), velocity v_k + e du/dt with
-  // du/dt = (I - u u^T)(v_k - v_j) / l; the displacement bound of k
+  // du/dt = (I - u u^T)(v_k - v_j) / l; the displacement bound of k. (u and e / l kept for
+  // mapping the forces back at the end of the step: vgeom)
+  vgeom.resize(4 * (size_t) nvirt);
   for (int vn = 0; vn < nvirt; vn++) {
     const int k = vreal[vn], j = vnbr[vn];
     double *xv = X + NR * (size_t) (nall + vn);
@@ -1266,6 +1268,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     const double l = std::sqrt(ux * ux + uy * uy + uz * uz);
     const double il = l > 0.0 ? 1.0 / l : 0.0;
     const double ex = il * ux, ey = il * uy, ez = il * uz;
+    double *gv = &vgeom[4 * (size_t) vn];
+    gv[0] = ex;
+    gv[1] = ey;
+    gv[2] = ez;
+    gv[3] = e * il;
     xv[0] = x[k][0] + e * ex;
     xv[1] = x[k][1] + e * ey;
     xv[2] = x[k][2] + e * ez;
@@ -1731,12 +1738,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   auto map_virtual = [&](const double *fv, auto &&dst) {
     for (int vn = 0; vn < nvirt; vn++) {
       const int k = vreal[vn], j = vnbr[vn];
-      const double ux = x[k][0] - x[j][0], uy = x[k][1] - x[j][1], uz = x[k][2] - x[j][2];
-      const double l = std::sqrt(ux * ux + uy * uy + uz * uz);
-      const double il = l > 0.0 ? 1.0 / l : 0.0;
-      const double ex = il * ux, ey = il * uy, ez = il * uz;
+      const double *gv = &vgeom[4 * (size_t) vn];
+      const double ex = gv[0], ey = gv[1], ez = gv[2], s = gv[3];
       const double *F = fv + 3 * (size_t) vn;
-      const double fu = F[0] * ex + F[1] * ey + F[2] * ez, s = EX[k] * il;
+      const double fu = F[0] * ex + F[1] * ey + F[2] * ez;
       const double g[3] = {s * (F[0] - fu * ex), s * (F[1] - fu * ey), s * (F[2] - fu * ez)};
       double *fk = dst(k), *fj = dst(j);
       for (int d = 0; d < 3; d++) {

@@ -144,6 +144,7 @@ class PairNCFContact : public Pair {
   std::vector<int> vreal, vnbr;
   int nall_build;
   std::vector<double> fvirt;
+  std::vector<double> vgeom;    // per virtual node, this step: unit vector u (3), e / l
   // the atom index of a node of a pair list entry (the free end for a virtual node)
   int real_of(int k) const { return k < nall_build ? k : vreal[k - nall_build]; }
   bool lists_valid;
