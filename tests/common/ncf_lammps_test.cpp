@@ -114,6 +114,21 @@ std::vector<double> Lammps::forces()
   return gather3("f", false);
 }
 
+double Lammps::energy_derivative(const std::string &energy, int id, int dim, double x, double h)
+{
+  auto place = [&](double at) {
+    cmd(fmt::format("set atom {} {:c} {:.17g}", id, "xyz"[dim], at));
+  };
+  place(x + h);
+  cmd("run 0");
+  const double ep = value(energy);
+  place(x - h);
+  cmd("run 0");
+  const double em = value(energy);
+  place(x);
+  return (ep - em) / (2 * h);
+}
+
 std::map<std::pair<long, long>, double> Lammps::reference_lengths()
 {
   std::map<std::pair<long, long>, double> result;

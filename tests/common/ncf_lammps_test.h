@@ -45,6 +45,10 @@ class Lammps {
   std::vector<double> velocities();
   std::vector<double> forces();
 
+  // d(energy)/d(coordinate dim of atom id) by central differences of step h around its current
+  // value x (run 0 at x + h and x - h, then the atom put back at x); energy: a thermo keyword
+  double energy_derivative(const std::string &energy, int id, int dim, double x, double h);
+
   // per-bond reference lengths stored by bond ncf/chain, keyed by (lower tag, higher tag), all ranks
   std::map<std::pair<long, long>, double> reference_lengths();
 

@@ -107,15 +107,7 @@ TEST(BondChain, FiniteDifferenceForce)
   const double h = 1e-9;
   for (int i = 1; i <= 4; i++)
     for (int d = 0; d < 3; d++) {
-      const double xi = x0[3 * (i - 1) + d];
-      l.cmd(fmt::format("set atom {} {:c} {:.17g}", i, "xyz"[d], xi + h));
-      l.cmd("run 0");
-      const double ep = l.value("ebond");
-      l.cmd(fmt::format("set atom {} {:c} {:.17g}", i, "xyz"[d], xi - h));
-      l.cmd("run 0");
-      const double em = l.value("ebond");
-      l.cmd(fmt::format("set atom {} {:c} {:.17g}", i, "xyz"[d], xi));
-      const double fd = -(ep - em) / (2 * h);
+      const double fd = -l.energy_derivative("ebond", i, d, x0[3 * (i - 1) + d], h);
       EXPECT_NEAR(f[3 * (i - 1) + d], fd, 1e-5 * std::fabs(fd) + 1e-6)
           << "atom " << i << " dim " << d;
     }
