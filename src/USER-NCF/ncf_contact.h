@@ -126,10 +126,12 @@ inline double segment_penetration(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0
 // evaluated by segment_contact; otherwise the results equal segment_contact's to round-off
 // (tested), with penetration left 0. Fill n lanes, call segment_contact_batch, read the lanes.
 constexpr int CONTACT_BATCH = 32;
+// (every per-lane array starts on a cache line, alignas(64), so that the vector loads and stores
+// of the kernels never straddle two lines)
 struct ContactBatch {
   int n = 0;
   // input per lane: a0, a1, b0, b1 (x, y, z each); contact distance, stiffness, ramp
-  double x[12][CONTACT_BATCH];
+  alignas(64) double x[12][CONTACT_BATCH];
   double dc[CONTACT_BATCH], kn[CONTACT_BATCH], ramp[CONTACT_BATCH];
   // output per lane: status 1 contact, 0 none, -1 not evaluated (use segment_contact)
   double status[CONTACT_BATCH];
@@ -225,7 +227,7 @@ constexpr int CAP_BATCH = 32;
 struct CapBatch {
   int n = 0;
   // input per lane: a0, a1, p, n, q (x, y, z each); contact distance, stiffness, ramp
-  double x[15][CAP_BATCH];
+  alignas(64) double x[15][CAP_BATCH];    // (the arrays on cache lines, as ContactBatch's)
   double dc[CAP_BATCH], kn[CAP_BATCH], ramp[CAP_BATCH];
   // output per lane: status 1 contact, 0 none, -1 not evaluated (use node_contact); energy,
   // forces on a0, a1, p, n, q (x, y, z each), penetration
@@ -287,7 +289,7 @@ double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double k
 // others are left alone (their forces are then undefined). kt, mu, damp per lane as in
 // contact_tangential; for a lane without friction (mu 0) the slip is not used.
 struct TangentialBatch {
-  double v[12][CONTACT_BATCH];      // velocities of A0, A1, B0, B1 (x, y, z each)
+  alignas(64) double v[12][CONTACT_BATCH];    // velocities of A0, A1, B0, B1 (x, y, z each)
   double slip[3][CONTACT_BATCH];    // slip (updated)
   double kt[CONTACT_BATCH], mu[CONTACT_BATCH], damp[CONTACT_BATCH];
   double energy[CONTACT_BATCH];    // spring energy
