@@ -73,6 +73,16 @@ inline SegKey make_key(tagint a, tagint b)
 // (at the build) moves by at most m + E |change of the unit vector| <= m + E 2 (2 m) / L.
 // la, lb: lengths of A and B; ea, eb: their largest extension. Rounded up; a huge value for a
 // degenerate extended segment (always evaluated).
+// the reach of a pair list entry (PairCand::reach): a float not above gap / grow, one float step
+// lower still, so that gap - grow s < 0 (in double precision) implies reach < s for every s >= 0
+inline float entry_reach(double gap, double grow)
+{
+  const double q = gap / grow;
+  float r = (float) q;
+  if ((double) r > q) r = std::nextafter(r, -HUGE_VALF);
+  return std::nextafter(r, -HUGE_VALF);
+}
+
 inline double gap_growth(double la, double ea, double lb, double eb)
 {
   constexpr double HUGE_GROWTH = 1e30;
@@ -921,7 +931,7 @@ void PairNCFContact::build_lists()
     const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 ||
         endext[jb] != 0.0;
     plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
-                     (float) grow, gap});
+                     entry_reach(gap, grow)});
   };
 
   // the boxes: every segment (owner node, partner) known here, and every interior node
@@ -1293,10 +1303,11 @@ void PairNCFContact::compute(int eflag, int vflag)
   auto xof = [X](int k) {
     return X + NR * (size_t) k;
   };
-  // how far the gap of a pair list entry can have closed since the build: grow times the
-  // displacement bounds of a node of A and of a node of B
+  // the displacement bound of a node of A plus that of a node of B (the largest of each): the gap
+  // of a pair list entry can have closed by grow times that since the build, so the entry is
+  // tested only where this reaches its reach (gap / grow)
   auto closing = [DM](const PairCand &pc) {
-    return pc.grow * (MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]));
+    return MAX(DM[pc.a0], DM[pc.a1]) + MAX(DM[pc.b0], DM[pc.b1]);
   };
 
   // every owned segment within the length the cutoffs were sized for: checked one by one only when
@@ -1375,9 +1386,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     // whether the pair was in contact (had a stored slip) in the previous step
     had = use_history && has_rd[e] != 0;
     const double close = closing(pc);
-    if (pc.gap - close >= 0.0) return false;
+    if (!(pc.reach < close)) return false;
     // (the prefilter only rejects pairs whose law is zero)
-    if (pc.gap + close < 0.0) return true;
+    if (pc.reach < -close) return true;
     const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
@@ -1482,7 +1493,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   int nwork = 0;
   for (int e = 0; e < npairs; e++) {
     work[nwork] = e;
-    nwork += plist[e].gap - plist[e].grow * dglob < 0.0;
+    nwork += plist[e].reach < dglob;
   }
   // When many of these drop out at the test by the bounds of their own nodes (nodes moving fast
   // somewhere, as in a compaction: judged by the last step), that test on the dense bounds
@@ -1495,7 +1506,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     for (int k = 0; k < nwork; k++) {
       const int e = work[k];
       work[nkeep] = e;
-      nkeep += plist[e].gap - closing(plist[e]) < 0.0;
+      nkeep += plist[e].reach < closing(plist[e]);
     }
     nwork = nkeep;
   }
@@ -1619,10 +1630,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const PairCand &pc = plist[e];
     const int l = batch.n;
     const double *row[4] = {xof(pc.a0), xof(pc.a1), xof(pc.b0), xof(pc.b1)};
-    const double close = pc.grow * (MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]));
+    const double close = MAX(row[0][3], row[1][3]) + MAX(row[2][3], row[3][3]);
     // (most entries are kept at rest, few where the nodes move fast: the branch is predictable
     // in both cases, and the lane is not filled in vain in the second)
-    if (!(pc.gap - close < 0.0)) continue;
+    if (!(pc.reach < close)) continue;
     nkept++;
     for (int m = 0; m < 4; m++)
       for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];

@@ -111,10 +111,11 @@ class PairNCFContact : public Pair {
     int a0, a1, b0, b1;    // segment A = a0-a1 (a0 owned, lower tag), B = b0-b1; key(A) < key(B)
     unsigned tp : 31;      // type pair (index into tpar)
     unsigned ext : 1;      // 1 if a node of A or B is a free chain end (segment extended)
-    float grow;            // bound of the closing speed of the gap (gap_growth)
-    double gap;            // at the build: distance of A and B (extended at free ends, B also by
-                           // the ramp half-width) minus D, rounded down; the law is zero while
-                           // it is positive
+    float reach;    // the law is zero while the displacement bound of a node of A plus that of a
+                    // node of B (the largest of each) stays below reach: gap / grow, rounded
+                    // down, with gap the distance of A and B at the build (extended at free
+                    // ends, B also by the ramp half-width) minus D and grow the bound of how
+                    // fast it can close (gap_growth)
   };
   struct CapCand {
     int a0, a1;     // segment A (a0 owned)
