@@ -1583,11 +1583,14 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (fc)
         for (int m = 0; m < 4; m++)
           for (int d = 0; d < 3; d++) fc[3 * nodes[m] + d] += batch.f[3 * m + d][l];
-      if (eng) ev += batch.energy[l] + espring;
-      const double pen = lane_pen[l];
+      // (the energy and penetration sums only where they are output)
+      if (eng) {
+        ev += batch.energy[l] + espring;
+        const double pen = lane_pen[l];
+        ps += pen;
+        pm = MAX(pm, pen);
+      }
       nc += 1.0;
-      ps += pen;
-      pm = MAX(pm, pen);
     }
     ncontact = nc;
     pensum = ps;
