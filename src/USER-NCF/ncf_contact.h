@@ -290,11 +290,18 @@ double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double k
 // contact_tangential; for a lane without friction (mu 0) the slip is not used.
 struct TangentialBatch {
   alignas(64) double v[12][CONTACT_BATCH];    // velocities of A0, A1, B0, B1 (x, y, z each)
-  double slip[3][CONTACT_BATCH];    // slip (updated)
+  double slip[3][CONTACT_BATCH];              // slip (updated)
   double kt[CONTACT_BATCH], mu[CONTACT_BATCH], damp[CONTACT_BATCH];
   double energy[CONTACT_BATCH];    // spring energy
 };
 void tangential_batch(ContactBatch &b, TangentialBatch &t, double dt);
+
+// The positions of the b.n lanes of b (and, with velocities, their velocities in t) copied from
+// node rows of 8 doubles (x, y, z, any, vx, vy, vz, any; each row on 32 bytes): lane l takes the
+// rows X + 8 idx[l][m] of its nodes m = A0, A1, B0, B1. Four lanes at a time are transposed in
+// registers (rather than 24 scalar copies per lane).
+void fill_lanes_from_rows(ContactBatch &b, TangentialBatch &t, const double *X, const int (*idx)[4],
+                          bool velocities);
 
 // Critical time step of a node of mass m pressed by a contact of stiffness kn over a length l:
 // dt_c = 2 sqrt(m / (kn l)) (explicit central differences). See doc/pair_ncf_contact.md.

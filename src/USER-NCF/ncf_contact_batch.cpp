@@ -301,6 +301,59 @@ namespace {
   }
 }    // namespace
 
+namespace {
+  typedef double v4d __attribute__((vector_size(32)));
+  typedef long long v4i __attribute__((vector_size(32)));
+  // the first three doubles of the rows r0..r3 (four lanes) into the lane arrays o[0..2] at l0
+  inline __attribute__((always_inline)) void transpose_rows(const double *r0, const double *r1,
+                                                            const double *r2, const double *r3,
+                                                            double (*o)[CONTACT_BATCH], int l0)
+  {
+    v4d a, b, c, d;
+    __builtin_memcpy(&a, r0, sizeof a);
+    __builtin_memcpy(&b, r1, sizeof b);
+    __builtin_memcpy(&c, r2, sizeof c);
+    __builtin_memcpy(&d, r3, sizeof d);
+    // (within 128-bit halves first, then across them: the shuffles x86 does in one instruction)
+    const v4d ab0 = __builtin_shuffle(a, b, v4i{0, 4, 2, 6});    // x0 x1 z0 z1
+    const v4d ab1 = __builtin_shuffle(a, b, v4i{1, 5, 3, 7});    // y0 y1 . .
+    const v4d cd0 = __builtin_shuffle(c, d, v4i{0, 4, 2, 6});    // x2 x3 z2 z3
+    const v4d cd1 = __builtin_shuffle(c, d, v4i{1, 5, 3, 7});    // y2 y3 . .
+    const v4d x = __builtin_shuffle(ab0, cd0, v4i{0, 1, 4, 5});
+    const v4d y = __builtin_shuffle(ab1, cd1, v4i{0, 1, 4, 5});
+    const v4d z = __builtin_shuffle(ab0, cd0, v4i{2, 3, 6, 7});
+    __builtin_memcpy(&o[0][l0], &x, sizeof x);
+    __builtin_memcpy(&o[1][l0], &y, sizeof y);
+    __builtin_memcpy(&o[2][l0], &z, sizeof z);
+  }
+}    // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#endif
+void fill_lanes_from_rows(ContactBatch &b, TangentialBatch &t, const double *X,
+                          const int (*idx)[4], bool velocities)
+{
+  const int n = b.n, n4 = n & ~3;
+  auto row = [X](int k) {
+    return X + 8 * (size_t) k;
+  };
+  for (int l = 0; l < n4; l += 4)
+    for (int m = 0; m < 4; m++) {
+      const double *r0 = row(idx[l][m]), *r1 = row(idx[l + 1][m]), *r2 = row(idx[l + 2][m]),
+                   *r3 = row(idx[l + 3][m]);
+      transpose_rows(r0, r1, r2, r3, b.x + 3 * m, l);
+      if (velocities) transpose_rows(r0 + 4, r1 + 4, r2 + 4, r3 + 4, t.v + 3 * m, l);
+    }
+  for (int l = n4; l < n; l++)
+    for (int m = 0; m < 4; m++) {
+      const double *r = row(idx[l][m]);
+      for (int d = 0; d < 3; d++) b.x[3 * m + d][l] = r[d];
+      if (velocities)
+        for (int d = 0; d < 3; d++) t.v[3 * m + d][l] = r[4 + d];
+    }
+}
+
 // contact_tangential (ncf_contact.cpp) lane by lane, the same operations in the same order
 // (__restrict: without it the compiler would have to check too many pairs of arrays for overlap
 // at run time and gives up vectorising)

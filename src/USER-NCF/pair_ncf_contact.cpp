@@ -1517,8 +1517,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   bool lane_had[NCF::CONTACT_BATCH];
   bool lane_go[NCF::CONTACT_BATCH], lane_fric[NCF::CONTACT_BATCH];
   double lane_pen[NCF::CONTACT_BATCH];
+  int lane_node[NCF::CONTACT_BATCH][4];    // the node rows of the lanes (A0, A1, B0, B1)
   batch.n = 0;
   auto flush = [&]() {
+    NCF::fill_lanes_from_rows(batch, tbatch, X, lane_node, use_velocity);
     NCF::segment_contact_batch(batch, core);
     // The lanes in contact (status 1) go on, those with friction with their slip; the others are
     // no contact (0) or left to the scalar law (-1). Flags first, without branches; then the few
@@ -1638,12 +1640,12 @@ void PairNCFContact::compute(int eflag, int vflag)
     // in both cases, and the lane is not filled in vain in the second)
     if (!(pc.reach < close)) continue;
     nkept++;
-    for (int m = 0; m < 4; m++)
-      for (int d = 0; d < 3; d++) batch.x[3 * m + d][l] = row[m][d];
+    // (the positions and velocities are copied in flush, four lanes at a time)
+    lane_node[l][0] = pc.a0;
+    lane_node[l][1] = pc.a1;
+    lane_node[l][2] = pc.b0;
+    lane_node[l][3] = pc.b1;
     if (!uniform) set_coefficients(l, tpar[pc.tp]);
-    if (use_velocity)
-      for (int m = 0; m < 4; m++)
-        for (int d = 0; d < 3; d++) tbatch.v[3 * m + d][l] = row[m][4 + d];
     lane_e[l] = e;
     if (use_history) {
       // the slip of the last step (zero if the pair was not in contact), used only with friction

@@ -390,3 +390,38 @@ TEST(CapBatch, HandlesBenchLikeCaps)
            core, s.batch, s.batch_active, s.left, 100.0 * left);
   }
 }
+
+// fill_lanes_from_rows: every lane gets the positions (and velocities) of its four nodes' rows,
+// bit for bit, for every number of lanes (whole groups of four and the rest), with and without
+// velocities; lanes beyond n are left alone
+TEST(ContactBatch, LanesFilledFromNodeRows)
+{
+  constexpr int NODES = 50;
+  alignas(64) double rows[8 * NODES];
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double &v : rows) v = u(rng);
+  std::uniform_int_distribution<int> pick(0, NODES - 1);
+  for (int n = 0; n <= NCF::CONTACT_BATCH; n++)
+    for (bool vel : {false, true}) {
+      ContactBatch b;
+      NCF::TangentialBatch t;
+      for (auto &a : b.x)
+        for (double &v : a) v = -7.0;
+      for (auto &a : t.v)
+        for (double &v : a) v = -7.0;
+      int idx[NCF::CONTACT_BATCH][4];
+      for (auto &lane : idx)
+        for (int &k : lane) k = pick(rng);
+      b.n = n;
+      NCF::fill_lanes_from_rows(b, t, rows, idx, vel);
+      for (int l = 0; l < NCF::CONTACT_BATCH; l++)
+        for (int m = 0; m < 4; m++)
+          for (int d = 0; d < 3; d++) {
+            const double *r = rows + 8 * idx[l][m];
+            EXPECT_EQ(b.x[3 * m + d][l], l < n ? r[d] : -7.0) << n << " " << l << " " << m;
+            EXPECT_EQ(t.v[3 * m + d][l], l < n && vel ? r[4 + d] : -7.0)
+                << n << " " << l << " " << m;
+          }
+    }
+}
