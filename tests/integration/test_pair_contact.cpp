@@ -19,8 +19,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 
 using namespace ncftest;
 using namespace contactscene;
@@ -61,6 +63,24 @@ double sum_over(const std::vector<double> &v, int first, int last, int dim)
   return s;
 }
 
+// run 0, then: the forces on the atoms ids are -d(pe)/dx by central differences (to 1e-5 of
+// the largest force), and the forces on atoms 1..natoms sum to zero
+void expect_forces_are_energy_gradient(Lammps &l, std::initializer_list<int> ids, int natoms)
+{
+  l.cmd("run 0");
+  const auto f = l.forces();
+  const auto x0 = l.positions();
+  double fmax = 0.0;
+  for (double v : f) fmax = std::max(fmax, std::fabs(v));
+  for (int d = 0; d < 3; d++) EXPECT_NEAR(sum_over(f, 1, natoms, d), 0.0, 1e-9 * fmax) << d;
+  const double h = 1e-10;
+  for (int id : ids)
+    for (int d = 0; d < 3; d++)
+      EXPECT_NEAR(f[3 * (id - 1) + d], -l.energy_derivative("pe", id, d, x0[3 * (id - 1) + d], h),
+                  1e-5 * fmax)
+          << id << " " << d;
+}
+
 }    // namespace
 
 TEST(PairContact, CrossedChainsBalanceAndOutputs)
@@ -93,17 +113,7 @@ TEST(PairContact, EnergyGradientThroughLammps)
   chains[1].x[5][2] -= 3e-6;    // kink the upper chain near the crossing
   chains[1].x[6][0] += 2e-5;
   l.cmds(setup(write_data(dir + "/c.data", chains, Box(), NODE_MASS)));
-  l.cmd("run 0");
-  auto f = l.forces();
-  auto x0 = l.positions();
-  const double h = 1e-10;
-  double fmax = 0.0;
-  for (double v : f) fmax = std::max(fmax, std::fabs(v));
-  for (int id : {5, 6, 7, 16, 17, 18})
-    for (int d = 0; d < 3; d++)
-      EXPECT_NEAR(f[3 * (id - 1) + d], -l.energy_derivative("pe", id, d, x0[3 * (id - 1) + d], h),
-                  1e-5 * fmax)
-          << id << " " << d;
+  expect_forces_are_energy_gradient(l, {5, 6, 7, 16, 17, 18}, 22);
 }
 
 // Two chains crossing beyond their free ends, inside the end caps only (0.2 D beyond one end,
@@ -122,17 +132,7 @@ TEST(PairContact, EnergyGradientAtFreeChainEnds)
   l.cmd("run 0");
   ASSERT_GE(l.value("c_pc[1]"), 1.0);
   ASSERT_GT(l.value("evdwl"), 0.0);
-  auto f = l.forces();
-  auto x0 = l.positions();
-  double fmax = 0.0;
-  for (double v : f) fmax = std::max(fmax, std::fabs(v));
-  for (int d = 0; d < 3; d++) EXPECT_NEAR(sum_over(f, 1, 22, d), 0.0, 1e-9 * fmax) << d;
-  const double hh = 1e-10;
-  for (int id : {10, 11, 21, 22})
-    for (int d = 0; d < 3; d++)
-      EXPECT_NEAR(f[3 * (id - 1) + d], -l.energy_derivative("pe", id, d, x0[3 * (id - 1) + d], hh),
-                  1e-5 * fmax)
-          << id << " " << d;
+  expect_forces_are_energy_gradient(l, {10, 11, 21, 22}, 22);
 }
 
 TEST(PairContact, SameForcesAcrossPeriodicBoundary)
