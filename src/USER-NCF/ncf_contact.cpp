@@ -355,21 +355,6 @@ void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3
   unextend(b0, b1, ext[2], ext[3], c.f[2], c.f[3], c.t);
 }
 
-void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                      const double *ext, ContactBatch &b, int lane)
-{
-  Vec3 f[4];
-  for (int m = 0; m < 4; m++)
-    f[m] = Vec3(b.f[3 * m][lane], b.f[3 * m + 1][lane], b.f[3 * m + 2][lane]);
-  unextend(a0, a1, ext[0], ext[1], f[0], f[1], b.xi[lane]);
-  unextend(b0, b1, ext[2], ext[3], f[2], f[3], b.t[lane]);
-  for (int m = 0; m < 4; m++) {
-    b.f[3 * m][lane] = f[m].x;
-    b.f[3 * m + 1][lane] = f[m].y;
-    b.f[3 * m + 2][lane] = f[m].z;
-  }
-}
-
 SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
                                double dc, double kn, double ramp, bool with_penetration,
                                const ContactOptions &opt)

@@ -170,10 +170,6 @@ struct ContactBatch {
 };
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);
-// unextend_contact for the contact in lane `lane` of b (its forces and xi, t; the same
-// operations, in place)
-void unextend_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
-                      const double *ext, ContactBatch &b, int lane);
 
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact

@@ -1345,24 +1345,16 @@ void PairNCFContact::compute(int eflag, int vflag)
   // list entry. A new contact whose take-over needs the history of a pair owned by another rank
   // (a ghost's row) is deferred (put on `deferred`) until that history has been communicated
   deferred.clear();
-  // the four nodes of a list entry (A0, A1, B0, B1): positions and end-cap extensions
+  // the positions of the four nodes of a list entry (A0, A1, B0, B1); the ends of segments at
+  // free chain ends are virtual nodes, whose rows hold the extended ends, so the law sees no
+  // extension left (ContactOptions::ext 0)
   struct EntryNodes {
     Vec3 x[4];
-    double ext[4];
-    bool extended() const
-    {
-      return ext[0] != 0.0 || ext[1] != 0.0 || ext[2] != 0.0 || ext[3] != 0.0;
-    }
   };
-  // (the nodes of the lanes: the ends of segments at free chain ends are virtual nodes, whose
-  // rows hold the extended ends, so no extension is left: ext 0)
   auto nodes_of = [&](const PairCand &pc) {
     EntryNodes en;
     const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
-    for (int m = 0; m < 4; m++) {
-      en.x[m] = Vec3(xof(ids[m]));
-      en.ext[m] = 0.0;
-    }
+    for (int m = 0; m < 4; m++) en.x[m] = Vec3(xof(ids[m]));
     return en;
   };
   // the penetration of the chains themselves (their real nodes: two extended tips may overlap
@@ -1391,8 +1383,9 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (pc.reach < -close) return true;
     const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
+    const double no_ext[4] = {0.0, 0.0, 0.0, 0.0};
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
-                                         en.ext);
+                                         no_ext);
   };
   // the law of entry e by the scalar kernel (any case)
   auto law = [&](int e) {
@@ -1401,7 +1394,6 @@ void PairNCFContact::compute(int eflag, int vflag)
     const EntryNodes en = nodes_of(pc);
     NCF::ContactOptions opt;
     opt.core = core;
-    for (int m = 0; m < 4; m++) opt.ext[m] = en.ext[m];
     return NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
                                 eflag_global != 0, opt);
   };
