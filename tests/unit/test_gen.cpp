@@ -519,6 +519,29 @@ TEST(GenOutputs, SameSeedSameBytesOtherSeedOtherBytes)
   fs::remove_all(dir);
 }
 
+TEST(GenOutputs, ManufacturingParametersReachTheSettings)
+{
+  // the card's needle diameter and pretension become variables of the stage scripts
+  auto value_of = [](const std::string &text, const std::string &name) {
+    const std::string key = "variable " + name + " equal ";
+    const auto pos = text.find(key);
+    if (pos == std::string::npos) return -1.0;
+    return std::stod(text.substr(pos + key.size()));
+  };
+  const std::string body = layer(0, 150, 1, CT24) + STITCH_TRICOT;
+  const std::string s0 =
+      settings_text(build_fabric(parse_card(card_text(body), "t.card"), materials()), "t");
+  EXPECT_NEAR(value_of(s0, "ncf_needle_d"), 0.6e-3, 1e-15);
+  EXPECT_NEAR(value_of(s0, "ncf_pretension"), 0.16, 1e-15);
+  const std::string s1 = settings_text(
+      build_fabric(
+          parse_card(card_text(body + "needle_diameter 0.45 mm\npretension 0.17\n"), "t.card"),
+          materials()),
+      "t");
+  EXPECT_NEAR(value_of(s1, "ncf_needle_d"), 0.45e-3, 1e-15);
+  EXPECT_NEAR(value_of(s1, "ncf_pretension"), 0.17, 1e-15);
+}
+
 TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
 {
   namespace fs = std::filesystem;
@@ -558,6 +581,14 @@ TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
        8,
        {"key 'yarn_mesh'", "shorter than the yarn diameter"}},
       {"yarn_mesh 0.1 mm\n", "yarn_mesh 0.1 mm\nsigma 2\n", 9, {"outside a layer block"}},
+      {"yarn PES_5.0tex\n",
+       "yarn PES_5.0tex\npretension 1.2\n",
+       17,
+       {"key 'pretension'", "'1.2'", "in [0, 1)"}},
+      {"yarn PES_5.0tex\n",
+       "yarn PES_5.0tex\nneedle_diameter 0 mm\n",
+       17,
+       {"key 'needle_diameter'", "'0'", "> 0"}},
   };
   for (auto &c : cases) {
     std::string text = good;

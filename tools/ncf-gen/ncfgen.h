@@ -71,6 +71,9 @@ struct Card {
   int yarn_line = 0;
   bool loops_bottom = true;    // loops on the bottom face (z < 0), underlaps on the top face
   double leg_gap = 1.02;       // distance of the two yarn legs at one hole / yarn diameter
+  // manufacturing (used by the stage scripts, written to the settings)
+  double needle_diameter = 0.6e-3;    // needle shaft diameter [m]
+  double pretension = 0.16;           // shrink of the yarn's rest length in stage 4 [-]
 };
 
 // Reads and checks a card; every error names the card file, the line, the key and the value.

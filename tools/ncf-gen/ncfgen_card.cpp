@@ -202,7 +202,8 @@ Card parse_card(const std::string &text, const std::string &path)
       {"fibre_mesh", LENGTH}, {"yarn_mesh", LENGTH},      {"V_L", NONE},
       {"mass_scaling", NONE}, {"sampling", NONE},         {"pattern", NONE},
       {"gauge", NONE},        {"stitch_length", LENGTH},  {"yarn", NONE},
-      {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE}};
+      {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE},
+      {"needle_diameter", LENGTH}, {"pretension", NONE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -329,6 +330,12 @@ Card parse_card(const std::string &text, const std::string &path)
       card.leg_gap = positive(key);
       if (card.leg_gap < 1.0)
         fail(where, "key 'leg_gap': value '" + val + "' must be >= 1 (legs would overlap)");
+    } else if (key == "needle_diameter") {
+      card.needle_diameter = positive(key);
+    } else if (key == "pretension") {
+      card.pretension = number(val, where, key) * scale;
+      if (!(card.pretension >= 0.0 && card.pretension < 1.0))
+        fail(where, "key 'pretension': value '" + val + "' must be in [0, 1)");
     }
   }
 

@@ -174,7 +174,11 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
       "\"  # arguments of compute ncf/orient\n";
   double dt = f.yarn.dt_crit;
   for (auto &L : f.layers) dt = std::min(dt, L.dt_crit);
-  s += "variable ncf_dt_crit equal " + g(dt) + "  # min over bonds of L0 sqrt(rho/E) [s]\n\n";
+  s += "variable ncf_dt_crit equal " + g(dt) + "  # min over bonds of L0 sqrt(rho/E) [s]\n";
+  s += "variable ncf_needle_d equal " + g(f.card.needle_diameter) +
+      "  # needle shaft diameter, stage 2 [m]\n";
+  s += "variable ncf_pretension equal " + g(f.card.pretension) +
+      "  # shrink of the yarn's rest length, stage 4 [-]\n\n";
   for (int i = 0; i < nl; i++) {
     const LayerInfo &L = f.layers[i];
     s += "bond_coeff " + std::to_string(i + 1) + " ea " + g(L.chain.ea) + "  # layer " +
@@ -290,6 +294,8 @@ std::string summary_text(const Fabric &f)
        std::string(c.loops_bottom ? "bottom / top" : "top / bottom") +
            fmt("  (faces at z = %.4f", y.z_bottom * 1e3) + fmt(" and %.4f mm)", y.z_top * 1e3));
   line("legs: offset from the hole centre", fmt("%.4f mm", y.leg_offset * 1e3));
+  line("needle diameter, pretension",
+       fmt("%.4g mm", c.needle_diameter * 1e3) + fmt(", %.4g (stages 2 and 4)", c.pretension));
   line("element length min / max", fmt("%.5f", y.min_l0 * 1e3) + fmt(" / %.5f mm", y.max_l0 * 1e3));
   line("node mass (lumped, scaled)", fmt("%.5g kg", y.node_mass));
   line("critical time step of the bonds", fmt("%.4g s", y.dt_crit));
