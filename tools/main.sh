@@ -2,9 +2,9 @@
 # The main job: set-up (once), then the scenes that run end to end today, with pictures and a
 # report in OUT/report.md:
 #   1. the paper's two fabrics generated (ncf-gen): summaries and pictures of the layers and yarn
-#   2. stage 1 of the manufacturing for both fabrics (elementary RVE): compaction of the layers
-#      to t_L between two plates under averaged periodic boundary conditions, pictures before and
-#      after, compaction curve, checks (examples/manufacturing)
+#   2. the manufacturing of both fabrics (elementary RVE), stages 1-5 (examples/manufacturing):
+#      compaction to t_L, needle piercing, stitching, yarn pretension, release; pictures, the
+#      checks of every stage, the as-manufactured fabric
 #   3. a periodic chain network: yarn pretension (stage 1, restart), stretch (stage 2), with the
 #      box stress checked against the rod model
 # Usage: bash tools/main.sh [OUT]      (default OUT: ./out)
@@ -20,9 +20,12 @@ bash "$root/examples/gen-ncf090/run.sh" "$out/fabrics" > /dev/null
 bash "$root/examples/gen-ncf45/run.sh" "$out/fabrics" > /dev/null
 
 np=${NCF_NP:-$(( $(nproc) >= 2 ? 2 : 1 ))}
-echo "[ncf-main] stage 1, compaction of both fabrics on $np rank(s) (a few minutes) -> $out/manufacturing"
-NCF_NP=$np bash "$root/examples/manufacturing/run.sh" "$out/manufacturing" ncf45 ncf090 \
-  > "$out/manufacturing.out" 2>&1 || { tail -30 "$out/manufacturing.out"; exit 1; }
+echo "[ncf-main] manufacturing stages 1-5 of both fabrics on $np rank(s) (several minutes) -> $out/manufacturing"
+NCF_NP=$np bash "$root/examples/manufacturing/run.sh" "$out/manufacturing" ncf45 ncf090
+(cd "$out/manufacturing" &&
+  /usr/bin/python3 "$root/examples/manufacturing/report_compaction.py" ncf45.compact.log ncf090.compact.log --out . > /dev/null &&
+  /usr/bin/python3 "$root/examples/manufacturing/report_manufacturing.py" ncf45 ncf090 --out manufacturing.md > /dev/null) ||
+  echo "[ncf-main] WARNING: a check of the manufacturing failed, see $out/manufacturing/manufacturing.md"
 
 echo "[ncf-main] chain-network example (pretension, restart, stretch) -> $out/chain-network"
 bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
@@ -45,20 +48,27 @@ bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
     for p in "$out/fabrics/$f".oblique.*.png; do echo "![$f]($(basename "$(dirname "$p")")/$(basename "$p"))"; done
     echo
   done
-  echo "## 2. Stage 1: compaction to the layer thickness t_L"
+  echo "## 2. Manufacturing, stages 1-5 (elementary RVEs)"
   echo
-  echo "Both fabrics, elementary RVE, \`examples/manufacturing/run.sh\` ($np MPI rank(s))."
+  echo "Both fabrics, \`examples/manufacturing/run.sh\` ($np MPI rank(s)); doc/howto_manufacturing.md"
+  echo "explains every stage and check."
   echo
-  sed -n '1,$p' "$out/manufacturing/compaction.md" | sed 's/^## /### /'
+  sed 's/^## /### /' "$out/manufacturing/manufacturing.md" | sed 's#](\([a-z0-9_]*\.pressure\.png\))#](manufacturing/\1)#'
   echo
   for f in ncf45 ncf090; do
+    echo "$f through the stages (generated, compacted, pierced, stitched, pretensioned, released):"
+    echo
     g=$(ls "$out/manufacturing/$f".generated.*.png | head -1)
-    c=$(ls "$out/manufacturing/$f".compacted.*.png | head -1)
-    echo "$f as generated and compacted:"
-    echo
-    echo "![$f generated](manufacturing/$(basename "$g")) ![$f compacted](manufacturing/$(basename "$c"))"
-    echo
+    printf '![%s generated](manufacturing/%s)' "$f" "$(basename "$g")"
+    for st in compact pierce stitch pretension release; do
+      printf ' ![%s %s](manufacturing/%s.%s.png)' "$f" "$st" "$f" "$st"
+    done
+    echo; echo
   done
+  echo "### Stage 1 in detail: compaction to the layer thickness t_L"
+  echo
+  sed 's/^## /#### /' "$out/manufacturing/compaction.md"
+  echo
   echo "![compaction curve](manufacturing/compaction_curve.png)"
   echo
   echo "## 3. Chain network: pretension and stretch"
@@ -71,5 +81,5 @@ bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
 echo
 echo "[ncf-main] done. Report: $out/report.md"
 echo "  fabrics  : $out/fabrics/*.summary, *.png (generated layers and yarn)"
-echo "  stage 1  : $out/manufacturing/ (restarts, data, pictures, compaction_curve.png, logs)"
+echo "  stages   : $out/manufacturing/ (per fabric and stage: restart, data, dump, png, log; manufacturing.md)"
 echo "  network  : $out/chain-network/ (restarts, dumps, pictures, stress_strain.png)"

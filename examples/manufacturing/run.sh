@@ -1,10 +1,26 @@
 #!/usr/bin/env bash
-# The paper's manufacturing stages for a fabric card (stage 1 so far: compaction of the layers
-# between two plates under averaged periodic boundary conditions), with pictures and a report.
+# The paper's manufacturing sequence for one or more fabric cards, stages 1-5 (paper section 4.4,
+# doc/howto_manufacturing.md), with pictures, checks and a report:
+#   1 compact     the generated layers squeezed to sum(t_L) between two plates (in.compact)
+#   2 pierce      the in-plane hold of the chain ends let go, needles through the mat (in.pierce)
+#   3 stitch      the stitching yarn added through the needle holes, needles out (in.stitch)
+#   4 pretension  the yarn's rest length shrinks by the card's pretension (in.pretension)
+#   5 release     the plates removed, the fabric relaxes: the "as-manufactured" state (in.release)
+# Each stage starts from the previous stage's restart file and writes PREFIX.STAGE.{restart,data,
+# dump,png} and PREFIX.STAGE.log into OUT.
 #
-# Usage: run.sh [OUT] [FABRIC ...]       FABRIC: ncf090 (0/90 tricot-chain), ncf45 (+-45 tricot)
-# Environment: NCF_NP (MPI ranks, default 1), NCF_PDYN (accepted dynamic pressure, Pa),
-#              NCF_SEED (random seed of the chain angles), NCF_RVE ("R_W R_L", default "1 1").
+# Usage: run.sh [OUT] [FABRIC ...]
+#   FABRIC: ncf090 (0/90 tricot-chain), ncf45 (+-45 tricot) - the cards under examples/gen-*/ -
+#           or the path of any fabric card (doc/ncf-gen.md); default: ncf45 ncf090
+# Environment:
+#   NCF_NP       MPI ranks (default 1)
+#   NCF_STAGES   stages to run, e.g. "1-5" (default), "1", "3-5" (the earlier ones' restart files
+#                must be in OUT)
+#   NCF_SEED     random seed of the chain angles (default: the card's)
+#   NCF_RVE      "R_W R_L" RVE repetitions (default: the card's)
+#   NCF_PDYN     accepted dynamic pressure of the compaction [Pa] (default 1e4)
+#   NCF_LMP_ARGS extra LAMMPS arguments for every stage, e.g. "-var tau 1000"
+#   NCF_ARGS_<stage>  extra LAMMPS arguments for one stage, e.g. NCF_ARGS_pierce="-var hold 500"
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(mkdir -p "${1:-$here/out}" && cd "${1:-$here/out}" && pwd)
@@ -15,19 +31,76 @@ fabrics=("$@")
 source "$NCF_BUILD/ncf-env.sh"
 np=${NCF_NP:-1}
 pdyn=${NCF_PDYN:-1e4}
+stages_all=(compact pierce stitch pretension release)
+range=${NCF_STAGES:-1-5}
+first=${range%-*} last=${range#*-}
+[[ "$first" =~ ^[1-5]$ && "$last" =~ ^[1-5]$ && $first -le $last ]] ||
+  { echo "run.sh: NCF_STAGES='$range' is not a stage range like 1-5 or 3"; exit 1; }
+
 run_lmp() { if [ "$np" -gt 1 ]; then mpirun -np "$np" --oversubscribe lmp "$@"; else lmp "$@"; fi; }
 
+# progress of a running stage from its log: the stage prints "STAGE_PLAN first F steps N"
+# before its runs, thermo lines carry the step
+progress() {
+  awk -v t="$2" '
+    $1 == "STAGE_PLAN" { f = $3; n = $5 }
+    $1 ~ /^[0-9]+$/ && NF > 4 { s = $1 }
+    END { if (n > 0 && s != "") { d = s - f; if (d < 0) d = 0; if (d > n) d = n
+            left = (d > 0) ? t * (n - d) / d : -1
+            printf "step %d of %d (%d %%), %d s elapsed", d, n, 100 * d / n, t
+            if (left >= 0) printf ", about %d s left", left }
+          else printf "starting, %d s elapsed", t }' "$1" 2>/dev/null
+}
+
+run_stage() {    # fab index name
+  local fab=$1 k=$2 name=$3 log="$1.$3.log" t0=$SECONDS pid line tty=0
+  [ -t 1 ] && tty=1
+  local extra="NCF_ARGS_$name"
+  # shellcheck disable=SC2086
+  run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" -var pdyn "$pdyn" \
+    ${NCF_LMP_ARGS:-} ${!extra:-} -log "$log" -screen none &
+  pid=$!
+  local last_print=$SECONDS
+  while kill -0 $pid 2>/dev/null; do
+    sleep 2
+    line=$(progress "$log" $((SECONDS - t0)))
+    if [ $tty = 1 ]; then
+      printf '\r\033[K[manufacturing] %s stage %d/5 %-10s %s' "$fab" "$k" "$name" "$line"
+    elif ((SECONDS - last_print >= 30)); then
+      echo "[manufacturing] $fab stage $k/5 $name: $line"
+      last_print=$SECONDS
+    fi
+  done
+  if ! wait $pid; then
+    [ $tty = 1 ] && echo
+    echo "[manufacturing] $fab stage $k/5 $name FAILED after $((SECONDS - t0)) s; the end of $out/$log:"
+    tail -15 "$log"
+    return 1
+  fi
+  [ $tty = 1 ] && printf '\r\033[K'
+  echo "[manufacturing] $fab stage $k/5 $name done in $((SECONDS - t0)) s ($(progress "$log" 0 | sed 's/,.*//'))"
+}
+
 cd "$out"
-logs=()
 for fab in "${fabrics[@]}"; do
-  card="$here/../gen-$fab/$fab.card"
-  [ -f "$card" ] || { echo "run.sh: no card for fabric '$fab' ($card)"; exit 1; }
-  args=(-o "$fab" -q)
-  [ -n "${NCF_SEED:-}" ] && args+=(-seed "$NCF_SEED")
-  [ -n "${NCF_RVE:-}" ] && args+=(-rve ${NCF_RVE})
-  ncf-gen "$card" "${args[@]}"
-  echo "[manufacturing] $fab: stage 1, compaction ($(grep 'total atoms' $fab.summary | awk '{print $5}') nodes, $np rank(s))"
-  run_lmp -in "$here/in.compact" -var prefix "$fab" -var pdyn "$pdyn" -log "$fab.compact.log" -screen none
-  logs+=("$fab.compact.log")
+  if [[ "$fab" == *.card ]]; then
+    card=$(cd "$(dirname "$fab")" && pwd)/$(basename "$fab")
+  else
+    card="$here/../gen-$fab/$fab.card"
+  fi
+  [ -f "$card" ] || { echo "run.sh: no fabric card '$fab' ($card)"; exit 1; }
+  # the output prefix: the card's name
+  name=$(awk '$1 == "name" { print $2; exit }' "$card")
+  name=${name:-$(basename "$card" .card)}
+  if [ "$first" = 1 ]; then
+    args=(-o "$name" -q)
+    [ -n "${NCF_SEED:-}" ] && args+=(-seed "$NCF_SEED")
+    # shellcheck disable=SC2206
+    [ -n "${NCF_RVE:-}" ] && args+=(-rve ${NCF_RVE})
+    ncf-gen "$card" "${args[@]}"
+  fi
+  echo "[manufacturing] $name: $(grep 'total atoms' "$name.summary" | awk '{print $4}' | tr -d ,) nodes with the yarn, $np rank(s), stages $first-$last"
+  for k in $(seq "$first" "$last"); do
+    run_stage "$name" "$k" "${stages_all[k - 1]}"
+  done
 done
-/usr/bin/python3 "$here/report_compaction.py" "${logs[@]}" --out .

@@ -70,6 +70,7 @@ TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
   l.cmd("variable prefix index mini");
   l.cmd("variable dumpevery index 50");
   l.cmd("variable hold index 1000");
+  l.cmd("variable here index " + source_path("examples/manufacturing"));
   l.cmd("include " + source_path("examples/manufacturing/in.compact"));
 
   const double d = l.value("v_ncf_d_fibre"), tl = l.value("v_ncf_thickness");
@@ -88,7 +89,7 @@ TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
   for (const auto &b : layers.bond) segs.emplace_back((int) b.first - 1, (int) b.second - 1);
   PassThroughChecker checker(segs, lx, ly, 3e-4);
   double zlow = 1e300, zover = -1e300;
-  const int snapshots = read_dump(prefix + ".compact.dump", layers.atoms,
+  const int snapshots = read_dump(prefix + ".compact.traj.dump", layers.atoms,
                                   [&](long step, const std::vector<double> &x) {
                                     checker.check(x);
                                     for (size_t i = 2; i < x.size(); i += 3) {

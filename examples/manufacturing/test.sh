@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# ctest (label examples): the five manufacturing stages on a small +-45 fabric (small.card, about
+# 1 600 nodes), with shortened holds and ramps, through run.sh as a user runs it; then the
+# report's checks (report_manufacturing.py: no pass-through at any stage, no fibre node inside a
+# needle after piercing, the yarn inserted without overlap, quasi-static, the yarn tension against
+# the rod model, equilibrium and averaged PBC after release) and every stage's outputs.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+out=${1:-$(mktemp -d)}
+rm -rf "$out" && mkdir -p "$out"
+NCF_NP=${NCF_NP:-1} NCF_LMP_ARGS="-var hold 1000 -var release 1500 -var ramp 4000 -var relax 3000" \
+  bash "$here/run.sh" "$out" "$here/small.card"
+for stage in compact pierce stitch pretension release; do
+  for ext in restart data dump png log; do
+    [ -s "$out/small.$stage.$ext" ] || { echo "FAIL: no small.$stage.$ext"; exit 1; }
+  done
+done
+/usr/bin/python3 "$here/report_manufacturing.py" small --dir "$out" --out "$out/report.md"
+
+# 1, 2 and 4 MPI ranks through stages 2-4 from the same compacted mat, a fixed and small number
+# of steps per stage (fast needles, short holds and ramp): the same trajectory to round-off
+for np in 1 2 4; do
+  mkdir -p "$out/np$np"
+  cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,compact.restart} "$out/np$np/"
+  NCF_NP=$np NCF_STAGES=2-4 \
+    NCF_LMP_ARGS="-var hold 100 -var release 200 -var ramp 400 -var needle_speed 200" \
+    bash "$here/run.sh" "$out/np$np" "$here/small.card" > "$out/np$np/run.out"
+done
+/usr/bin/python3 - "$out" <<'PY'
+import sys
+out = sys.argv[1]
+def atoms(path):
+    box, pos, sec = {}, {}, None
+    for line in open(path):
+        w = line.split("#")[0].split()
+        if not w:
+            continue
+        if len(w) >= 4 and w[2] in ("xlo", "ylo", "zlo"):
+            box[w[2][0]] = float(w[1]) - float(w[0])
+        elif w[0][0].isalpha():
+            sec = w[0]
+        elif sec == "Atoms":
+            x, y, z = (float(v) for v in w[3:6])
+            ix, iy = int(w[6]), int(w[7])
+            pos[int(w[0])] = (x + ix * box["x"], y + iy * box["y"], z)
+    return pos, max(box.values())
+ok = True
+for stage in ("pierce", "stitch", "pretension"):
+    ref, size = atoms(f"{out}/np1/small.{stage}.data")
+    for np in (2, 4):
+        other, _ = atoms(f"{out}/np{np}/small.{stage}.data")
+        if other.keys() != ref.keys():
+            print(f"FAIL: {stage}: {np} ranks have other atoms than 1 rank"); ok = False; continue
+        d = max(abs(a - b) for i in ref for a, b in zip(ref[i], other[i]))
+        good = d <= 1e-9 * size
+        ok &= good
+        print(f"{stage}: {np} ranks vs 1 rank, largest position difference {d:.3g} m "
+              f"({d / size:.2g} of the box): {'ok' if good else 'FAIL'}")
+sys.exit(0 if ok else 1)
+PY
