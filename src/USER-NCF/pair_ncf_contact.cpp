@@ -370,17 +370,26 @@ void PairNCFContact::find_lmax()
     for (int d = 0; d < 3; d++) mine[3 * atom->tag[i] + d] = unwrap[d];
   }
   MPI_Allreduce(mine.data(), xall.data(), (int) xall.size(), MPI_DOUBLE, MPI_SUM, world);
+  // segment length from the unwrapped positions, as the nearest image across periodic faces: a
+  // chain closed on itself through the box (a stitching yarn) has no consistent image flags, so
+  // its closing bond would otherwise measure a box length
+  const double prd[3] = {domain->xprd, domain->yprd, domain->zprd};
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  auto seg_length = [&](tagint a, tagint b) {
+    double r2 = 0.0;
+    for (int d = 0; d < 3; d++) {
+      double dx = xall[3 * b + d] - xall[3 * a + d];
+      if (periodic[d]) dx -= prd[d] * std::round(dx / prd[d]);
+      r2 += dx * dx;
+    }
+    return std::sqrt(r2);
+  };
   double lmax = 0.0;
   for (int i = 0; i < nlocal; i++)
     for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
       const tagint p = atom->special[i][s];
       if (p <= atom->tag[i]) continue;
-      double r2 = 0.0;
-      for (int d = 0; d < 3; d++) {
-        const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
-        r2 += dx * dx;
-      }
-      lmax = std::max(lmax, std::sqrt(r2));
+      lmax = std::max(lmax, seg_length(atom->tag[i], p));
     }
   // critical time step of the contacts: a node of mass m pressed against an equal one by parallel
   // contacts over half its two segments, stiffness k = kn (L_1 + L_2)/2: dt_c = sqrt(2 m / k)
@@ -392,13 +401,7 @@ void PairNCFContact::find_lmax()
   for (int i = 0; i < nlocal; i++) {
     double len = 0.0;
     for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
-      const tagint p = atom->special[i][s];
-      double r2 = 0.0;
-      for (int d = 0; d < 3; d++) {
-        const double dx = xall[3 * p + d] - xall[3 * atom->tag[i] + d];
-        r2 += dx * dx;
-      }
-      len += 0.5 * std::sqrt(r2);
+      len += 0.5 * seg_length(atom->tag[i], atom->special[i][s]);
     }
     const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
     if (m > 0.0 && len > 0.0) omega2 = MAX(omega2, 2.0 * knmax * len / m);
