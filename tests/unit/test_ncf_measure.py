@@ -160,7 +160,7 @@ def measure(tmp, box, chains, needles, angles, layer=1, ntypes=None, **kw):
     L = fab.layer(layer)
     return data, M.measure_layer(data, fab, L, np.asarray(needles, float), kw.get("h", H),
                                  kw.get("capture", 0.15 * MM), kw.get("min_area", (D / 2) ** 2),
-                                 kw.get("search", 0.5 * MM))
+                                 kw.get("search", 0.3 * MM))
 
 
 def run_cli(argv):
@@ -300,12 +300,26 @@ class Defects(unittest.TestCase):
             dx = c["x"] - (needles[c["index"]][0] + 1.4 * MM)
             self.assertAlmostEqual(dx - lx * round(dx / lx), 0.0, delta=1e-9)   # the middle, in the box
             self.assertTrue(0 <= c["x"] < lx)
+        # a chain crossing the channel at 10 deg through the middle of the first two stitching
+        # points: there the line across holds two open runs, W - d/cos(10 deg) together
+        phi = math.radians(10.0)
+        M0 = np.array([needles[0][0] + 1.4 * MM, yc])
+        cross = straight(M0[0] - 1.5 * MM * math.cos(phi), yc - 1.5 * MM * math.sin(phi),
+                         M0[0] + 1.5 * MM * math.cos(phi), yc + 1.5 * MM * math.sin(phi), 0.2 * MM,
+                         step=0.1 * MM)
+        with tmpdir() as tmp:
+            _, r3 = measure(tmp, (lx, ly, -1 * MM, 1 * MM), chains + [Chain(cross, 1)], needles,
+                            [0.0, 90.0])
+        w3 = {c["index"]: c["width"] for c in r3["channels"]}
+        self.assertLessEqual(abs(w3[0] - (W - D / math.cos(phi))), r3["grid"].hy, w3)
+        for k in (1, 2, 3):
+            self.assertLessEqual(abs(w3[k] - W), 0.5 * r3["grid"].hy, w3)
         # a narrower channel of the same layer reads narrower: the width is measured, not assumed
-        chains2 = chains[:-1] + [x_chain(yc + W / 2 + D / 2 - 0.1 * MM, lx)]
+        chains2 = chains + [x_chain(yc + W / 2 + D / 2 - 0.05 * MM, lx)]
         with tmpdir() as tmp:
             _, r2 = measure(tmp, (lx, ly, -1 * MM, 1 * MM), chains2, needles, [0.0, 90.0])
         for c in r2["channels"]:
-            self.assertLessEqual(abs(c["width"] - (W - 0.1 * MM)), 0.5 * r2["grid"].hy)
+            self.assertLessEqual(abs(c["width"] - (W - 0.05 * MM)), 0.5 * r2["grid"].hy)
 
     def check_fisheye(self, xc, yc, lx=4.4 * MM, ly=5.08 * MM, a=1.2 * MM, b=0.11 * MM):
         chains = fisheye_layer(lx, ly, xc, yc, a, b)

@@ -55,7 +55,7 @@ def panel_channel(ax):
     for c in r["channels"]:
         m = np.array([c["x"], c["y"]]) / MM
         ax.plot(m[0], m[1], "bo", ms=3)
-        ax.plot([m[0], m[0]], [m[1] - 0.5, m[1] + 0.5], "b:", lw=0.8)
+        ax.plot([m[0], m[0]], [m[1] - 0.3, m[1] + 0.3], "b:", lw=0.8)
         if c["width"] > 0:
             lo = m[1] + c["offset"] / MM - c["width"] / MM / 2
             arrow(ax, (m[0] + 0.08, lo), (m[0] + 0.08, lo + c["width"] / MM), "b")

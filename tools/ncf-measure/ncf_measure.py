@@ -768,31 +768,30 @@ def channel_vector(needles, grid, angle, tol_deg=0.5):
     return None if best is None else best[1]
 
 
-def run_at(grid, covered, p, direction, search, centre_tol=None):
-    """Uncovered run on the line through p along `direction` (unit vector) within +-search of p:
-    the run nearest to p. Returns (width, offset of its centre from p) or (0, None)."""
+def runs_across(grid, open_map, p, direction, search, reach=3e-3):
+    """Open runs on the line through p along `direction` (unit vector), sampled every half pixel
+    over +-(search + reach): the runs that overlap [-search, +search] count whole. Returns
+    (total length of those runs, centre of their span relative to p) or (0, None)."""
     h = 0.5 * min(grid.hx, grid.hy)
-    n = int(math.ceil(search / h))
+    n = int(math.ceil((search + reach) / h))
     t = np.arange(-n, n + 1) * h
     x = p[0] + t * direction[0]
     y = p[1] + t * direction[1]
     i = np.mod(np.floor((x - grid.xlo) / grid.hx).astype(np.int64), grid.nx)
     j = np.mod(np.floor((y - grid.ylo) / grid.hy).astype(np.int64), grid.ny)
-    open_ = ~covered[j, i]
-    if not open_.any():
-        return 0.0, None
-    # runs of open samples
-    d = np.diff(np.r_[0, open_.astype(np.int8), 0])
+    o = open_map[j, i]
+    d = np.diff(np.r_[0, o.astype(np.int8), 0])
     starts = np.nonzero(d == 1)[0]
     stops = np.nonzero(d == -1)[0]      # exclusive
-    centre = 0.5 * (t[starts] + t[stops - 1])
-    dist = np.where((t[starts] <= 0) & (t[stops - 1] >= 0), 0.0,
-                    np.minimum(np.abs(t[starts]), np.abs(t[stops - 1])))
-    k = int(np.argmin(dist))
-    return float((stops[k] - starts[k]) * h), float(centre[k])
+    keep = (t[starts] <= search) & (t[stops - 1] >= -search)
+    if not keep.any():
+        return 0.0, None
+    starts, stops = starts[keep], stops[keep]
+    return (float(np.sum(stops - starts) * h),
+            float(0.5 * (t[starts].min() + t[stops - 1].max())))
 
 
-def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_search=0.5e-3):
+def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_search=0.3e-3):
     """Gaps of one layer's coverage map, assigned to stitching points and channels.
 
     Returns dict with: comps (list of component dicts with kind crack/channel/gap, needle,
@@ -889,13 +888,13 @@ def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_s
     if cv is not None:
         u = cv / math.hypot(*cv)
         v = np.array([-u[1], u[0]])
-        small = np.array([False] + [not c["big"] for c in comps])
-        closed = covered | small[clab]          # gaps too small to count do not open a channel
+        is_channel = np.array([False] + [c["kind"] == "channel" for c in comps])
+        open_map = is_channel[clab]             # only gaps that are channels open a channel
         for k, p in enumerate(needles):
             m = p + 0.5 * cv
             m = np.array([grid.xlo + (m[0] - grid.xlo) % grid.lx,
                           grid.ylo + (m[1] - grid.ylo) % grid.ly])
-            w, off = run_at(grid, closed, m, v, channel_search)
+            w, off = runs_across(grid, open_map, m, v, channel_search)
             channels.append(dict(index=k, x=float(m[0]), y=float(m[1]), width=w,
                                  offset=off))
     return dict(comps=comps, clab=clab, points=points, channels=channels, channel_vector=cv)
@@ -1238,8 +1237,9 @@ def parse_args(argv):
                    help="map pixel size, at most 10 um (default 5 um)")
     p.add_argument("--capture", type=_length, default=0.15e-3,
                    help="a gap within this distance of a stitching point belongs to it (default 0.15 mm)")
-    p.add_argument("--channel-search", type=_length, default=0.5e-3,
-                   help="half-length of the line across a channel searched for the open run (default 0.5 mm)")
+    p.add_argument("--channel-search", type=_length, default=0.3e-3,
+                   help="channel runs counted when they reach within this distance of the middle "
+                   "on the line across (default 0.3 mm)")
     p.add_argument("--min-gap", type=float, default=None,
                    help="smallest gap area counted [mm^2] (default (d_c/2)^2)")
     p.add_argument("--loop-z", type=_length, default=None,
