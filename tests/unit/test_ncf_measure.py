@@ -256,6 +256,27 @@ class Raster(unittest.TestCase):
         self.assertGreater(int(ref.sum()), 100)
         np.testing.assert_array_equal(cov, ref)
 
+    def test_deviation_map_sees_the_face(self):
+        """Two chains crossing at different heights (+5 deg at z = 0.1 mm, -3 deg at z = 0.3 mm):
+        at the crossing, the map seen from the top shows -3, seen from the bottom +5."""
+        with tmpdir() as tmp:
+            box = (4 * MM, 4 * MM, -1 * MM, 1 * MM)
+            def chain(deg, z):
+                a = math.radians(deg)
+                return Chain(straight(2 * MM - 1.5 * MM * math.cos(a), 2 * MM - 1.5 * MM * math.sin(a),
+                                      2 * MM + 1.5 * MM * math.cos(a), 2 * MM + 1.5 * MM * math.sin(a),
+                                      z), 1)
+            p = os.path.join(tmp, "z.data")
+            write_data(p, box, [chain(5.0, 0.1 * MM), chain(-3.0, 0.3 * MM)], 2)
+            data = M.read_data(p)
+            g = M.Grid.of(data, H)
+            i, j = int(2 * MM / g.hx), int(2 * MM / g.hy)
+            for top, want in ((True, -3.0), (False, 5.0)):
+                cov, dev = M.coverage(data, g, 1, 0.0, D, top=top)
+                self.assertTrue(cov[j, i])
+                self.assertAlmostEqual(float(dev[j, i]), want, places=9)
+                self.assertTrue(np.isnan(dev[~cov]).all())
+
     def test_periodic_labelling(self):
         """A band through the x faces is one component that wraps; a blob on the corner is one
         component whose unwrapped extent is its true size."""
@@ -380,6 +401,30 @@ class Defects(unittest.TestCase):
         self.assertEqual([p["kind"] for p in r["points"]], ["channel", "channel"])
         self.assertEqual([c["kind"] for c in r["comps"]], ["channel"])
 
+    def test_gap_near_or_far_from_a_channel_line(self):
+        """Mask level, 0 deg layer with stitching points every 2.8 mm along x: a gap 0.1 mm off
+        the line between two of them (and far from both) is a piece of the channel, a gap 1 mm
+        off it (beyond the 0.3 mm search) is an other gap assigned to the nearest point."""
+        g = M.Grid(0.0, 0.0, 5.6 * MM, 5.08 * MM, H)
+        x, y = g.centres()
+        X, Y = np.meshgrid(x, y)
+        yc = 2.54 * MM
+        needles = np.array([[1.4 * MM, yc], [4.2 * MM, yc]])
+        near = (np.abs(X - 2.8 * MM) < 0.1 * MM) & (np.abs(Y - (yc + 0.1 * MM)) < 0.03 * MM)
+        far = (np.abs(X - 3.5 * MM) < 0.1 * MM) & (np.abs(Y - (yc - 1.0 * MM)) < 0.03 * MM)
+        r = M.analyse_gaps(g, ~(near | far), needles, 0.0, 0.15 * MM, (D / 2) ** 2, 0.3 * MM)
+        kinds = {}
+        for c in r["comps"]:
+            cy = np.mean(M.comp_xy(g, c)[1])
+            kinds["near" if cy > yc else "far"] = (c["kind"], c["needle"])
+        self.assertEqual(kinds["near"][0], "channel")
+        self.assertEqual(kinds["far"], ("gap", 1))
+        self.assertEqual([p["kind"] for p in r["points"]], ["covered", "covered"])
+        # the channel piece opens the middle between the points (x = 2.8 mm), 0.06 mm wide
+        w = {round(c["x"] / MM, 3): c["width"] for c in r["channels"]}
+        self.assertLessEqual(abs(w[2.8] - 0.06 * MM), 0.5 * g.hy)
+        self.assertEqual(w[0.0], 0.0)
+
     def test_covered_stitching_point(self):
         """A closed 0 deg layer (chains at d/3): no gap at all; every stitching point is covered
         (share without a visible crack 100 %), and there is no open channel."""
@@ -393,9 +438,10 @@ class Defects(unittest.TestCase):
         self.assertEqual([p["kind"] for p in r["points"]], ["covered", "covered"])
         self.assertEqual([c["width"] for c in r["channels"]], [0.0, 0.0])
 
-    def test_end_ties_close_the_main_faces(self):
+    def test_chain_ends_close_the_main_faces(self):
         """Chains along x that end half an element inside the x faces (averaged PBC, no bond
-        across the face, end codes 1/2) still cover the face: the tool ties them."""
+        across the face, end codes 1/2) still cover the face: the tool extends each end by half
+        its last element; without the end codes the faces read as a gap."""
         lx, ly = 2.0 * MM, 1.0 * MM
         n = int(round(ly / (D / 3)))
         chains = []
@@ -406,6 +452,11 @@ class Defects(unittest.TestCase):
         with tmpdir() as tmp:
             data, r = measure(tmp, (lx, ly, -1 * MM, 1 * MM), chains, [(1 * MM, 0.5 * MM)], [0.0])
         self.assertTrue(r["covered"].all())
+        for c in chains:
+            c.ends = {}
+        with tmpdir() as tmp:
+            data, r = measure(tmp, (lx, ly, -1 * MM, 1 * MM), chains, [(1 * MM, 0.5 * MM)], [0.0])
+        self.assertFalse(r["covered"].all())
 
 
 class Loops(unittest.TestCase):

@@ -585,51 +585,29 @@ def rasterize(grid, a, b, r, za=None, zb=None, value=None, top=True, chunk_pixel
     return cov.reshape(ny, nx)
 
 
-def end_ties(data, layer, maxdist):
-    """Pairs (end node on face xhi/yhi, end node of the continuing chain on face xlo/ylo) of the
-    layer: the averaged-PBC ties that close the chains through their main faces (no bond). The
-    continuation is the lo-face end node nearest to the hi-face end node extrapolated by its last
-    bond (the generator puts it there: one element further along the chain)."""
-    nb = np.zeros(len(data.layer), dtype=np.int64) - 1      # a bonded neighbour of each node
-    nb[data.bonds[:, 0]] = data.bonds[:, 1]
-    nb[data.bonds[:, 1]] = data.bonds[:, 0]
-    pairs = []
-    for hi_code, lo_code in ((2, 1), (4, 3)):
-        hi = np.nonzero((data.layer == layer) & (data.end == hi_code))[0]
-        lo = np.nonzero((data.layer == layer) & (data.end == lo_code))[0]
-        if len(hi) == 0 or len(lo) == 0:
-            continue
-        pred = data.pos[hi, :2].copy()
-        has = nb[hi] >= 0
-        step = data.min_image(data.pos[hi[has], :2] - data.pos[nb[hi[has]], :2])
-        pred[has] += step
-        d = data.min_image(data.pos[lo][None, :, :2] - pred[:, None, :])
-        dist = np.hypot(d[..., 0], d[..., 1])
-        k = np.argmin(dist, axis=1)
-        d2 = data.min_image(data.pos[lo[k], :2] - data.pos[hi, :2])
-        ok = np.hypot(d2[:, 0], d2[:, 1]) <= maxdist
-        pairs.append(np.stack([hi[ok], lo[k[ok]]], 1))
-    return np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
-
-
 def layer_segments(data, layer):
-    """Bonds of the layer plus the averaged-PBC ties: (pairs, is_bond)."""
+    """Segments of the layer's chains: its bonds, plus half an element beyond every chain end on
+    a main face (NCF_NODE end code 1-4) along its last bond. A chain ends half an element inside
+    its main face and the chain that continues it (averaged PBC, no bond) starts half an element
+    inside the opposite face; the two extensions meet at the face, so the faces do not read as
+    gaps. Returns (start points (S, 3), vectors (S, 3), is_bond (S,))."""
     b = data.bonds[layer_bonds(data, layer)]
-    if len(b):
-        v = data.min_image(data.pos[b[:, 1], :2] - data.pos[b[:, 0], :2])
-        lmax = float(np.max(np.hypot(v[:, 0], v[:, 1])))
-    else:
-        lmax = 0.0
-    t = end_ties(data, layer, 2.0 * lmax)
-    return np.concatenate([b, t]), np.concatenate([np.ones(len(b), bool), np.zeros(len(t), bool)])
+    a = data.pos[b[:, 0]]
+    v = data.min_image(data.pos[b[:, 1]] - a)
+    nb = np.full(len(data.layer), -1, dtype=np.int64)      # a bonded neighbour of each node
+    nb[b[:, 0]] = b[:, 1]
+    nb[b[:, 1]] = b[:, 0]
+    ends = np.nonzero((data.layer == layer) & (data.end > 0) & (nb >= 0))[0]
+    ea = data.pos[ends]
+    ev = 0.5 * data.min_image(data.pos[ends] - data.pos[nb[ends]])
+    return (np.concatenate([a, ea]), np.concatenate([v, ev]),
+            np.concatenate([np.ones(len(a), bool), np.zeros(len(ea), bool)]))
 
 
 def coverage(data, grid, layer, angle, d_c, top=True):
     """Coverage map and deviation map (seen from the top or the bottom) of one layer."""
-    pairs, _ = layer_segments(data, layer)
-    a = data.pos[pairs[:, 0]]
-    v = data.min_image(data.pos[pairs[:, 1]] - a)
-    dev, _ = bond_deviation(data, pairs, angle)
+    a, v, _ = layer_segments(data, layer)
+    dev = wrap_deviation(np.degrees(np.arctan2(v[:, 1], v[:, 0])) - angle)
     return rasterize(grid, a[:, :2], a[:, :2] + v[:, :2], 0.5 * d_c, a[:, 2], a[:, 2] + v[:, 2],
                      dev, top=top)
 
@@ -836,6 +814,7 @@ def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_s
             comp["needle"] = ks[0]
         else:
             # assigned to the nearest stitching point, or to the channel line if that is nearer
+            # and within the channel search distance of it
             x, y = comp_xy(grid, comp)
             if len(x) > 20000:
                 sel = np.linspace(0, len(x) - 1, 20000).astype(np.int64)
@@ -853,7 +832,8 @@ def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_s
                     dC.append(np.min(across[inside]) if inside.any() else np.inf)
             k = int(np.argmin(dP))
             comp["needle"] = k
-            comp["kind"] = "channel" if (dC and min(dC) < dP[k]) else "gap"
+            near_line = bool(dC) and min(dC) < dP[k] and min(dC) <= channel_search
+            comp["kind"] = "channel" if near_line else "gap"
         x, y = comp_xy(grid, comp)
         if comp["wraps"][0] or comp["wraps"][1]:
             comp["length"], comp["width"] = float("inf"), float("nan")
