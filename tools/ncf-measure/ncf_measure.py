@@ -850,8 +850,7 @@ def analyse_gaps(grid, covered, needles, angle, capture, min_area=0.0, channel_s
             for c in cracks:
                 x, y = comp_xy(grid, comps[c - 1])
                 # the image of the component nearest to this stitching point
-                j = np.argmin(np.hypot(*_periodic_delta(grid, x - p[0], y - p[1])) +
-                              0 * x)
+                j = np.argmin(np.hypot(*_periodic_delta(grid, x - p[0], y - p[1])))
                 dx, dy = _periodic_delta(grid, x[j] - p[0], y[j] - p[1])
                 xs.append(x + (p[0] + dx - x[j]))
                 ys.append(y + (p[1] + dy - y[j]))
