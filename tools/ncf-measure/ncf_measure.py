@@ -974,9 +974,10 @@ def plot_map(path, data, L, res, needles, map_range, title):
     grid = res["grid"]
     mm = 1e3
     ext = [grid.xlo * mm, (grid.xlo + grid.lx) * mm, grid.ylo * mm, (grid.ylo + grid.ly) * mm]
-    w = 6.5
-    hgt = max(3.0, min(14.0, w * grid.ly / grid.lx + 1.0))
-    fig, ax = plt.subplots(figsize=(w + 1.8, hgt), dpi=150)
+    aspect = grid.ly / grid.lx
+    w = 6.5 if aspect <= 1.6 else max(2.0, 10.0 / aspect)     # map width [in]
+    hgt = max(3.0, min(14.0, w * aspect + 1.0))
+    fig, ax = plt.subplots(figsize=(w + 2.2, hgt), dpi=150)
     cmap = plt.get_cmap("jet").copy()
     cmap.set_bad("black")
     dm = np.ma.masked_invalid(np.where(res["covered"], res["devmap"], np.nan))
@@ -1296,7 +1297,7 @@ def run(args):
                     stem = os.path.splitext(os.path.basename(path))[0]
                     plot_map(os.path.join(args.out, "%s-layer%d-map.png" % (stem, L.index)), data,
                              L, res, nd, args.map_range,
-                             "%s: layer %d (%g deg) seen from the %s, other layers and yarn removed"
+                             "%s: layer %d (%g deg)\nseen from the %s, other layers and yarn removed"
                              % (os.path.basename(path), L.index, L.angle,
                                 "top" if res["top"] else "bottom"))
         if (data.layer == 0).any():
