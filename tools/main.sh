@@ -27,6 +27,13 @@ NCF_NP=$np bash "$root/examples/manufacturing/run.sh" "$out/manufacturing" ncf45
   /usr/bin/python3 "$root/examples/manufacturing/report_manufacturing.py" ncf45 ncf090 --out manufacturing.md > /dev/null) ||
   echo "[ncf-main] WARNING: a check of the manufacturing failed, see $out/manufacturing/manufacturing.md"
 
+echo "[ncf-main] measuring the as-manufactured fabrics (ncf-measure) -> $out/measure"
+for f in ncf45 ncf090; do
+  m="$out/manufacturing/$f"
+  ncf-measure "$m.release.data" --needles "$m.needles" --summary "$m.summary" --out "$out/measure/$f" -q ||
+    echo "[ncf-main] WARNING: ncf-measure failed on $f"
+done
+
 echo "[ncf-main] chain-network example (pretension, restart, stretch) -> $out/chain-network"
 bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
 
@@ -71,7 +78,30 @@ bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
   echo
   echo "![compaction curve](manufacturing/compaction_curve.png)"
   echo
-  echo "## 3. Chain network: pretension and stretch"
+  echo "## 3. The as-manufactured fabrics, measured as the paper's scans (ncf-measure)"
+  echo
+  echo "Each layer seen from its free face with the other layer and the yarn removed, coloured by the"
+  echo "local deviation from its nominal angle, the gaps outlined and sized (doc/ncf_measure.md)."
+  echo "The elementary RVEs have only 2 (±45°) and 4 (0°/90°) stitching points: few measurements;"
+  echo "the paper's comparison uses larger RVEs and three seeds (§5.2)."
+  echo
+  /usr/bin/python3 "$root/examples/manufacturing/compare_paper.py" \
+    --ncf090 "$out/measure/ncf090/ncf-measure-summary.csv" --ncf45 "$out/measure/ncf45/ncf-measure-summary.csv" || true
+  echo
+  for f in ncf45 ncf090; do
+    echo "$f as manufactured (oblique, with the yarn) and each layer from its free face:"
+    echo
+    printf '![%s released](manufacturing/%s.release.png)' "$f" "$f"
+    for mp in "$out/measure/$f/"*-map.png; do
+      [ -f "$mp" ] && printf ' ![%s](measure/%s/%s)' "$(basename "$mp" .png)" "$f" "$(basename "$mp")"
+    done
+    echo; echo
+    sed -n '/^## Orientation/,$p' "$out/measure/$f/ncf-measure.md" | sed 's/^## /#### /'
+    echo
+    echo "![orientation](measure/$f/ncf-measure-orientation.png)"
+    echo
+  done
+  echo "## 4. Chain network: pretension and stretch"
   echo
   sed -n '3,$p' "$out/chain-network/report.md"
   echo
@@ -82,4 +112,5 @@ echo
 echo "[ncf-main] done. Report: $out/report.md"
 echo "  fabrics  : $out/fabrics/*.summary, *.png (generated layers and yarn)"
 echo "  stages   : $out/manufacturing/ (per fabric and stage: restart, data, dump, png, log; manufacturing.md)"
+echo "  measured : $out/measure/<fabric>/ (layer maps, orientation, ncf-measure.md, CSV)"
 echo "  network  : $out/chain-network/ (restarts, dumps, pictures, stress_strain.png)"
