@@ -293,6 +293,7 @@ void BondNCFChain::capture_missing()
   int **bondlist = neighbor->bondlist;
   const int nbondlist = neighbor->nbondlist;
 
+  const int before = count_owned_slots();
   int missing = 0;
   for (int n = 0; n < nbondlist; n++) {
     const int i1 = bondlist[n][0], i2 = bondlist[n][1];
@@ -311,7 +312,6 @@ void BondNCFChain::capture_missing()
   MPI_Allreduce(&missing, &anymissing, 1, MPI_INT, MPI_MAX, world);
   if (!anymissing) return;
 
-  const int before = count_owned_slots();
   comm_mode = COMM_SLOTS;
   comm->reverse_comm(this);    // ghost slots filled here go to their owners
   comm->forward_comm(this);    // and back to every ghost copy

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -333,17 +334,25 @@ TEST(BondChain, MissingReferenceLengthsAreCapturedFromTheGeometry)
 {
   auto dir = scratch_dir("bond_capture");
   auto data = write_chain_data(dir, 6, 2.3e-4, 0.0, 1e-9, false);
-  Lammps l;
-  l.cmds(SETUP);
-  l.cmd("read_data " + data);
-  l.cmd("bond_coeff 1 ea 10.0");
-  l.cmd("run 0");
-  auto got = l.reference_lengths();
+  auto got = std::map<std::pair<long, long>, double>();
+  {
+    Lammps l(MPI_COMM_WORLD, dir + "/log.lammps");
+    l.cmds(SETUP);
+    l.cmd("read_data " + data);
+    l.cmd("bond_coeff 1 ea 10.0");
+    l.cmd("run 0");
+    got = l.reference_lengths();
+    EXPECT_NEAR(l.value("ebond"), 0.0, 1e-30);
+    // the largest L0 is reported for the communication cutoff check
+    EXPECT_NEAR(l.lmp->force->bond->equilibrium_distance(1), 2.3e-4, 1e-18);
+  }
+  // the log counts the bonds it captured (it said 0 when the owned atoms had captured them all)
+  std::ifstream in(dir + "/log.lammps");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("taken from the current geometry for 5 bond(s)"));
   ASSERT_EQ(got.size(), 5u);
   for (auto &kv : got) EXPECT_NEAR(kv.second, 2.3e-4, 1e-18);
-  EXPECT_NEAR(l.value("ebond"), 0.0, 1e-30);
-  // the largest L0 is reported for the communication cutoff check
-  EXPECT_NEAR(l.lmp->force->bond->equilibrium_distance(1), 2.3e-4, 1e-18);
 }
 
 TEST(BondChain, ShrinkByFixAdaptPullsTheChainTogether)
