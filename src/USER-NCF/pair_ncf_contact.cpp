@@ -1191,6 +1191,11 @@ void PairNCFContact::compute(int eflag, int vflag)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const double dt = update->dt;
+  // the setup of a run (or of a minimisation) computes the forces of the state as it is: the
+  // friction history is neither advanced nor kept (the slips of the last step stay the last
+  // step's), and each contact's friction force is that of its stored slip, the force the step
+  // that stored it gave. So `run 0` changes nothing, and a run cut into pieces is the same run.
+  const bool advance = !update->setupflag;
 
   // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
   // exchanged or sorted) and after every init
@@ -1454,7 +1459,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       const int ids[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
       Vec3 vel[4];
       for (int m = 0; m < 4; m++) vel[m] = Vec3(xof(ids[m]) + 4);
-      espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, dt);
+      espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, dt, advance);
       if (slip) {
         // kept (also a zero slip: the contact exists)
         slip[0] = sv.x;
@@ -1547,7 +1552,7 @@ void PairNCFContact::compute(int eflag, int vflag)
         for (int d = 0; d < 3; d++) tbatch.slip[d][l] = slip[d];
       }
     }
-    if (use_velocity) NCF::tangential_batch(batch, tbatch, dt);
+    if (use_velocity) NCF::tangential_batch(batch, tbatch, dt, advance);
     // the contacts' slips kept and forces added (as apply does, with the counters in locals, so
     // that they stay in registers; the same operations in the same order)
     double *const fc = fatom_flag ? fcon.data() : nullptr;
@@ -1766,8 +1771,9 @@ void PairNCFContact::compute(int eflag, int vflag)
       return fcon.data() + 3 * (size_t) k;
     });
 
-  // this step's history is the last step's of the next (its rows are written when needed)
-  if (use_history) {
+  // this step's history is the last step's of the next (its rows are written when needed); not
+  // in a setup (advance)
+  if (use_history && advance) {
     hlast = hwr;
     rows_current = false;
   }
