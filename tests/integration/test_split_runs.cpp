@@ -174,17 +174,14 @@ fix nve all nve
 timestep 5e-9
 )";
 
-Scene contact_scene(const std::string &data, const std::string &coeff)
+Scene contact_scene(const std::string &data, const std::string &coeff,
+                    const std::string &boundary = "p p f")
 {
   Scene s;
   s.define = [=](Lammps &l) {
-    l.cmds(R"(
-units si
-atom_style bond
-atom_modify map array sort 0 0
-boundary p p f
-bond_style ncf/chain
-)");
+    l.cmds("units si\natom_style bond\natom_modify map array sort 0 0");
+    l.cmd("boundary " + boundary);
+    l.cmd("bond_style ncf/chain");
     l.cmd("read_data " + data);
     l.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
     l.cmd("pair_style ncf/contact");
@@ -216,6 +213,31 @@ TEST(SplitRuns, PairContactFrictionHistory)
   }
   check_cuts(s, dir);
   check_run0(s);
+}
+
+// a longer run, the lists rebuilt every few steps (skin 0.2 um), cut where the uncut run does not
+// rebuild them; in a closed box (no node crosses a periodic boundary: LAMMPS wraps them at a cut)
+TEST(SplitRuns, PairContactLongRunManyListBuilds)
+{
+  auto dir = scratch_dir("split_contact_long");
+  using namespace contactscene;
+  Box box;
+  box.lo[0] = box.lo[1] = -1e-3;
+  box.hi[0] = box.hi[1] = 2.2e-3;
+  const std::string data = write_data(
+      dir + "/f.data", random_mat(24, 12, 1.2e-3, MESH, 0.9 * DIAM, 5), box, RHO_A * MESH);
+  Scene s = contact_scene(data, "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6", "f f f");
+  const auto define = s.define;
+  s.define = [=](Lammps &l) {
+    define(l);
+    l.cmd("neighbor 2e-7 bin");
+  };
+  s.outputs = {"c_pc[1]"};
+  const Snapshot ref = run_pieces(s, {600}, -1, dir);
+  EXPECT_GT(ref.values[0], 0.0) << "contacts at the end";
+  for (int c : {173, 311, 450})
+    expect_same(run_pieces(s, {c, 600 - c}, -1, dir), ref,
+                fmt::format("run {} + run {}", c, 600 - c));
 }
 
 TEST(SplitRuns, PairContactWithoutFriction)
