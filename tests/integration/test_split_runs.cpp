@@ -1,5 +1,6 @@
 // Split-run invariance: a run cut into pieces (`run 7` as `run 3` + `run 4`, `run 1` + `run 1` +
-// `run 5`, `run 0` in between, write_restart / read_restart into a new LAMMPS instance at a cut)
+// `run 5`, `run 0` in between, write_restart / read_restart into a new LAMMPS instance at a cut,
+// a restart file written during a run by the restart command)
 // gives the same positions, velocities and forces bit for bit as the uncut run, for every style
 // that keeps state from step to step: the friction history of pair ncf/contact, the motion of
 // fix ncf/plate (and its friction history) and fix ncf/needles, the ramp of fix ncf/shrink and
@@ -46,6 +47,13 @@ struct Scene {
   std::vector<std::string> outputs;    // state of the styles compared too (e.g. a tool's height)
 };
 
+Snapshot snapshot(Lammps &l, const Scene &s)
+{
+  Snapshot snap{l.positions(), l.velocities(), l.forces(), {}};
+  for (const std::string &e : s.outputs) snap.values.push_back(l.value(e));
+  return snap;
+}
+
 // Runs the pieces (run lengths; 0 is `run 0`); after piece restart_after (-1: none) the state
 // goes through write_restart and read_restart into a new instance
 Snapshot run_pieces(const Scene &s, const std::vector<int> &pieces, int restart_after,
@@ -63,9 +71,7 @@ Snapshot run_pieces(const Scene &s, const std::vector<int> &pieces, int restart_
       s.resume(*l, file);
     }
   }
-  Snapshot snap{l->positions(), l->velocities(), l->forces(), {}};
-  for (const std::string &e : s.outputs) snap.values.push_back(l->value(e));
-  return snap;
+  return snapshot(*l, s);
 }
 
 std::string describe(const std::vector<int> &pieces, int restart_after)
@@ -105,6 +111,26 @@ void expect_same(const Snapshot &cut, const Snapshot &ref, const std::string &wh
         << "output " << k + 1;
 }
 
+// a restart file written during a run (`restart 3`: steps 3 and 6), read into a new instance at
+// step 3 and run on to step 7, against that run (LAMMPS reneighbours on the steps that write a
+// restart file: both runs write them on the same steps)
+void check_restart_command(const Scene &s, const std::string &dir)
+{
+  Snapshot ref;
+  {
+    Lammps l;
+    s.define(l);
+    l.cmd("restart 3 " + dir + "/during.*");
+    l.cmd("run 7");
+    ref = snapshot(l, s);
+  }
+  Lammps r;
+  s.resume(r, dir + "/during.3");
+  r.cmd("restart 3 " + dir + "/after.*");
+  r.cmd("run 4");
+  expect_same(snapshot(r, s), ref, "run 7 with restart 3, read at step 3 + run 4");
+}
+
 // run 7 uncut against the same 7 steps cut unevenly and at several places, with and without a
 // restart at a cut; the scene must have moved (not a trivially equal state)
 void check_cuts(const Scene &s, const std::string &dir)
@@ -123,6 +149,7 @@ void check_cuts(const Scene &s, const std::string &dir)
     const std::string what = describe(c.pieces, c.restart_after) + " vs run 7";
     expect_same(run_pieces(s, c.pieces, c.restart_after, dir), ref, what);
   }
+  check_restart_command(s, dir);
 }
 
 // forces of two `run 0` in a row after a run: those of the run's last step, both times
