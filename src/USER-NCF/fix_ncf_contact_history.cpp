@@ -8,7 +8,9 @@
 #include "error.h"
 #include "force.h"
 #include "modify.h"
+#include "output.h"
 #include "pair_ncf_contact.h"
+#include "update.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -28,7 +30,7 @@ FixNCFContactHistory::FixNCFContactHistory(LAMMPS *lmp, int narg, char **arg) : 
 
 int FixNCFContactHistory::setmask()
 {
-  return PRE_EXCHANGE | MIN_PRE_EXCHANGE;
+  return PRE_EXCHANGE | MIN_PRE_EXCHANGE | END_OF_STEP;
 }
 
 PairNCFContact *FixNCFContactHistory::pair() const
@@ -61,6 +63,13 @@ void FixNCFContactHistory::pre_exchange()
 void FixNCFContactHistory::min_pre_exchange()
 {
   pre_exchange();
+}
+
+// a restart file written during a run (restart command) holds the history of its step, so that
+// the run read from it continues the same run (end_of_step comes before LAMMPS's output)
+void FixNCFContactHistory::end_of_step()
+{
+  if (update->ntimestep == output->next_restart) pre_exchange();
 }
 
 // also for write_restart, write_data and the next run's list build after this run

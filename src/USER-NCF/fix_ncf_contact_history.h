@@ -3,7 +3,8 @@
    fix ncf/contact/history: created by pair_style ncf/contact (not by hand). The pair keeps the
    friction history of its contacts with its pair list and writes it into the per-atom store
    that LAMMPS migrates, sorts and writes to restart files only when that store is about to be
-   used: before atoms migrate (pre_exchange) and at the end of a run. See
+   used: before atoms migrate (pre_exchange), at the end of a step that writes a restart file
+   (end_of_step) and at the end of a run. See
    doc/fix_ncf_contact_history.md.
 ------------------------------------------------------------------------- */
 
@@ -30,6 +31,7 @@ class FixNCFContactHistory : public Fix {
   void init() override;
   void pre_exchange() override;
   void min_pre_exchange() override;
+  void end_of_step() override;
   void post_run() override;
 
  private:

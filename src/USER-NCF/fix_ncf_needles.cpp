@@ -41,8 +41,8 @@ using namespace FixConst;
 ------------------------------------------------------------------------- */
 
 FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), t0(0.0),
-    ivar(-1), ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0)
+    Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), ivar(-1),
+    ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -139,7 +139,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
 
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
-  t0 = elapsed();
+  clock.start(update);
   update_tip();
 }
 
@@ -181,11 +181,6 @@ void FixNCFNeedles::init()
     error->all(FLERR, "fix ncf/needles needs an atom map (atom_modify map array or hash)");
 }
 
-double FixNCFNeedles::elapsed() const
-{
-  return update->atime + (update->ntimestep - update->atimestep) * update->dt;
-}
-
 void FixNCFNeedles::update_tip()
 {
   if (motion.kind == NCF::Motion::VARIABLE) {
@@ -193,7 +188,7 @@ void FixNCFNeedles::update_tip()
     return;
   }
   double v;
-  motion.at(elapsed() - t0, ztip, v);
+  motion.at(clock.time(update), ztip, v);
 }
 
 void FixNCFNeedles::setup(int vflag)
@@ -316,12 +311,15 @@ double FixNCFNeedles::compute_array(int i, int j)
 void FixNCFNeedles::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double buf[5];
-  buf[0] = t0;
+  // (a restart file written before the clock existed has the time origin in buf[0] and ends
+  // after buf[4])
+  double buf[5 + NCF_LMP::ToolClock::NPACK];
+  buf[0] = NCF_LMP::ToolClock::MARK;
   motion.pack(&buf[1]);
+  clock.pack(&buf[5]);
   int size = sizeof(buf);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(buf, sizeof(double), 5, fp);
+  fwrite(buf, sizeof(double), sizeof(buf) / sizeof(double), fp);
 }
 
 void FixNCFNeedles::restart(char *raw)
@@ -336,7 +334,10 @@ void FixNCFNeedles::restart(char *raw)
           "fix ncf/needles: motion defined differently from the restart file: it starts anew");
     return;
   }
-  t0 = buf[0];
+  if (buf[0] == NCF_LMP::ToolClock::MARK)
+    clock.unpack(&buf[5]);
+  else
+    clock.resume_from_origin(update, buf[0]);
   update_tip();
 }
 

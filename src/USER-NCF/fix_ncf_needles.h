@@ -15,6 +15,7 @@ FixStyle(ncf/needles,FixNCFNeedles);
 #define LMP_FIX_NCF_NEEDLES_H
 
 #include "fix.h"
+#include "ncf_clock_lammps.h"
 #include "ncf_motion.h"
 
 #include <string>
@@ -46,7 +47,7 @@ class FixNCFNeedles : public Fix {
   int direction;                  // -1: tip points down (shaft above), +1: tip points up
   std::vector<double> chain_d;    // chain diameter per atom type (0 = not in contact)
   NCF::Motion motion;             // of the tips (ncf_motion.h)
-  double t0;
+  NCF_LMP::ToolClock clock;       // time of the motion since the fix definition
   std::string var;
   int ivar;
   double ztip;
@@ -60,7 +61,6 @@ class FixNCFNeedles : public Fix {
   std::vector<double *> imgrows;
 
   void read_needles(const std::string &file);
-  double elapsed() const;
   void update_tip();
 };
 

@@ -41,6 +41,9 @@ namespace {
 // face codes of the per-atom property (doc/ARCHITECTURE.md): 1 xlo, 2 xhi, 3 ylo, 4 yhi
 constexpr int FACE_XLO = 1, FACE_XHI = 2, FACE_YLO = 3, FACE_YHI = 4;
 constexpr int NVAL = 7;    // per group: predicted residual (3), current sum (3), sum w^2/m
+// first number of the restart data (where a restart file without the multipliers of the last
+// step held the node count)
+constexpr double RESTART_MARK = -2.0;
 
 // in-plane deformation gradient F = h h_ref^-1 of the periodic box (x, y), identity in z
 void deformation(const double *h, const double *href, double F[2][2])
@@ -58,7 +61,7 @@ void deformation(const double *h, const double *href, double F[2][2])
 /* ---------------------------------------------------------------------- */
 
 FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), ngroups(0), residual_max(0.0)
+    Fix(lmp, narg, arg), ngroups(0), residual_max(0.0), lambda_step(-1)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -404,6 +407,12 @@ void FixNCFPBC::post_force(int vflag)
       lambda[3 * g + d] = NCF::constraint_multiplier(s[d] - target[d], dt2 * s[6]);
     }
   }
+  if (!update->setupflag) {
+    lambda_last = lambda;
+    lambda_step = update->ntimestep;
+  } else if (lambda_step == update->ntimestep && lambda_last.size() == lambda.size()) {
+    lambda = lambda_last;
+  }
 
   for (auto &e : nodes) {
     const int i = atom->map(e.tag);
@@ -473,6 +482,8 @@ void FixNCFPBC::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   std::vector<double> buf;
+  // (a restart file written before the multipliers were kept starts with the node count)
+  buf.push_back(RESTART_MARK);
   buf.push_back((double) nodes.size());
   buf.push_back(ngroups);
   for (int k = 0; k < 6; k++) buf.push_back(href[k]);
@@ -485,6 +496,9 @@ void FixNCFPBC::write_restart(FILE *fp)
     buf.insert(buf.end(),
                {(double) e.tag, (double) e.pair, (double) e.group, e.weight, e.xref[0], e.xref[1],
                 e.xref[2]});
+  buf.push_back((double) lambda_step);
+  buf.push_back((double) lambda_last.size());
+  buf.insert(buf.end(), lambda_last.begin(), lambda_last.end());
   int size = (int) (buf.size() * sizeof(double));
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(buf.data(), sizeof(double), buf.size(), fp);
@@ -494,6 +508,8 @@ void FixNCFPBC::restart(char *raw)
 {
   auto *buf = (double *) raw;
   std::size_t m = 0;
+  const bool with_lambda = buf[0] == RESTART_MARK;
+  if (with_lambda) m++;
   const auto n = (std::size_t) buf[m++];
   ngroups = (int) buf[m++];
   for (int k = 0; k < 6; k++) href[k] = buf[m++];
@@ -512,6 +528,11 @@ void FixNCFPBC::restart(char *raw)
     e.group = (int) buf[m++];
     e.weight = buf[m++];
     for (double &xr : e.xref) xr = buf[m++];
+  }
+  if (with_lambda) {
+    lambda_step = (bigint) buf[m++];
+    lambda_last.resize((std::size_t) buf[m++]);
+    for (double &l : lambda_last) l = buf[m++];
   }
   finish_groups();
   if (comm->me == 0)

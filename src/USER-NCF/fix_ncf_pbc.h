@@ -59,6 +59,12 @@ class FixNCFPBC : public Fix {
   double residual_max;            // largest |constraint| before the last correction (length)
 
   std::vector<double> work, sums, lambda;    // per-step buffers
+  // the multipliers of the last step of a run and its number: the setup of the next run at that
+  // step applies them again, rather than ones predicted from the full-step velocities that
+  // LAMMPS has then (the steps have the half-step ones), so that a run cut into pieces (or
+  // through a restart file) is the same run
+  std::vector<double> lambda_last;
+  bigint lambda_step;
 
   void parse(int, char **);
   void capture_reference();

@@ -32,8 +32,8 @@ static constexpr int NTOT = 5;
 /* ---------------------------------------------------------------------- */
 
 FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kn(0.0), kt(0.0), mu(0.0), damp(0.0), t0(0.0), slip(nullptr),
-    use_history(0), energy(0.0), dt_contact(0.0), idx_l0(-1)
+    Fix(lmp, narg, arg), kn(0.0), kt(0.0), mu(0.0), damp(0.0), slip(nullptr), use_history(0),
+    energy(0.0), dt_contact(0.0), idx_l0(-1)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -50,7 +50,7 @@ FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
 
   diameter.assign(atom->ntypes + 1, 0.0);
   parse(narg, arg);
-  t0 = elapsed();
+  clock.start(update);
   update_plates();
   for (int k = 0; k < 2; k++) zprev[k] = plate[k].z;
 
@@ -161,14 +161,9 @@ void FixNCFPlate::init()
 
 /* ---------------------------------------------------------------------- */
 
-double FixNCFPlate::elapsed() const
-{
-  return update->atime + (update->ntimestep - update->atimestep) * update->dt;
-}
-
 void FixNCFPlate::update_plates()
 {
-  const double t = elapsed() - t0;
+  const double t = clock.time(update);
   for (int k = 0; k < 2; k++) {
     Plate &p = plate[k];
     if (p.motion.kind == NCF::Motion::VARIABLE) {
@@ -265,6 +260,9 @@ void FixNCFPlate::apply()
   const int nlocal = atom->nlocal;
   const double dt = update->dt;
   const bool friction = use_history && update->whichflag == 1;
+  // in the setup of a run the friction force of the stored slip, the slip left as it is (the
+  // history advances in steps only, so that a run cut into pieces is the same run)
+  const bool advance = !update->setupflag;
 
   double local[2][NTOT] = {{0.0}};
   double elocal = 0.0;
@@ -291,10 +289,12 @@ void FixNCFPlate::apply()
         NCF::Vec3 slipv{s[0], s[1], s[2]};
         const NCF::Vec3 n{0.0, 0.0, (double) side};
         const NCF::Vec3 vrel{v[i][0], v[i][1], v[i][2] - p.vz};
-        const auto fr = NCF::friction_step(slipv, n, vrel, dt, kt * l, c.force, mu);
-        s[0] = slipv.x;
-        s[1] = slipv.y;
-        s[2] = slipv.z;
+        const auto fr = NCF::friction_step(slipv, n, vrel, dt, kt * l, c.force, mu, advance);
+        if (advance) {
+          s[0] = slipv.x;
+          s[1] = slipv.y;
+          s[2] = slipv.z;
+        }
         f[i][0] += fr.force.x;
         f[i][1] += fr.force.y;
         f[i][2] += fr.force.z;
@@ -370,15 +370,18 @@ double FixNCFPlate::compute_vector(int n)
 void FixNCFPlate::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double buf[1 + 2 * 5];
-  buf[0] = t0;
+  // (a restart file written before the clock existed has the time origin in buf[0] and ends
+  // after buf[10])
+  double buf[1 + 2 * 5 + NCF_LMP::ToolClock::NPACK];
+  buf[0] = NCF_LMP::ToolClock::MARK;
   for (int k = 0; k < 2; k++) {
     plate[k].motion.pack(&buf[1 + 5 * k]);
     buf[5 + 5 * k] = zprev[k];
   }
+  clock.pack(&buf[11]);
   int size = sizeof(buf);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(buf, sizeof(double), 11, fp);
+  fwrite(buf, sizeof(double), sizeof(buf) / sizeof(double), fp);
 }
 
 void FixNCFPlate::restart(char *raw)
@@ -397,7 +400,10 @@ void FixNCFPlate::restart(char *raw)
       return;
     }
   }
-  t0 = buf[0];
+  if (buf[0] == NCF_LMP::ToolClock::MARK)
+    clock.unpack(&buf[11]);
+  else
+    clock.resume_from_origin(update, buf[0]);
   zprev[0] = buf[5];
   zprev[1] = buf[10];
   update_plates();

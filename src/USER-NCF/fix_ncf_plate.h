@@ -15,6 +15,7 @@ FixStyle(ncf/plate,FixNCFPlate);
 #define LMP_FIX_NCF_PLATE_H
 
 #include "fix.h"
+#include "ncf_clock_lammps.h"
 #include "ncf_motion.h"
 
 #include <string>
@@ -58,7 +59,7 @@ class FixNCFPlate : public Fix {
   Plate plate[2];    // 0: lower (normal +z), 1: upper (normal -z)
   double kn, kt, mu, damp;
   std::vector<double> diameter;    // per atom type, 0 = not given
-  double t0;                       // time origin of the motion (time of the fix definition)
+  NCF_LMP::ToolClock clock;        // time of the motion since the fix definition
   double zprev[2];                 // VARIABLE: previous position for the plate velocity
 
   double **slip;    // per atom: slip vectors against the lower (0..2) and upper (3..5) plate
@@ -74,7 +75,6 @@ class FixNCFPlate : public Fix {
   std::vector<double *> imgrows;
 
   void parse(int, char **);
-  double elapsed() const;
   void update_plates();
   void apply();
   double tributary_length(int i) const;

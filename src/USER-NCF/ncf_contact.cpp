@@ -566,39 +566,39 @@ NodeContact node_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &p, const Ve
 }
 
 FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
-                             double fn, double mu)
+                             double fn, double mu, bool advance)
 {
   FrictionResult out;
   if (!(kt > 0.0) || !(fn > 0.0) || !(mu > 0.0)) {
     slip = Vec3();
     return out;
   }
-  // keep the stored slip in the current tangent plane, with its magnitude
-  const double sn = dot(slip, normal);
-  if (sn != 0.0) {
-    const double mag2 = norm2(slip);
-    slip -= sn * normal;
-    const double t2 = norm2(slip);
-    slip = (t2 > 0.0) ? std::sqrt(mag2 / t2) * slip : Vec3();
+  if (advance) {
+    // keep the stored slip in the current tangent plane, with its magnitude
+    const double sn = dot(slip, normal);
+    if (sn != 0.0) {
+      const double mag2 = norm2(slip);
+      slip -= sn * normal;
+      const double t2 = norm2(slip);
+      slip = (t2 > 0.0) ? std::sqrt(mag2 / t2) * slip : Vec3();
+    }
+    const Vec3 vt = vrel - dot(vrel, normal) * normal;
+    slip += dt * vt;
+    const Vec3 f = -kt * slip;
+    const double fm2 = norm2(f), cap = mu * fn;
+    if (fm2 > cap * cap) {
+      slip = (-1.0 / kt) * ((cap / std::sqrt(fm2)) * f);
+      out.sliding = true;
+    }
   }
-  const Vec3 vt = vrel - dot(vrel, normal) * normal;
-  slip += dt * vt;
-  Vec3 f = -kt * slip;
-  const double fm2 = norm2(f), cap = mu * fn;
-  if (fm2 > cap * cap) {
-    f = (cap / std::sqrt(fm2)) * f;
-    slip = (-1.0 / kt) * f;
-    out.sliding = true;
-    out.energy = 0.5 * cap * cap / kt;
-  } else {
-    out.energy = 0.5 * fm2 / kt;
-  }
-  out.force = f;
+  // the force of the slip as it is kept: the setup of the next run (advance false) gives it again
+  out.force = -kt * slip;
+  out.energy = 0.5 * norm2(out.force) / kt;
   return out;
 }
 
 double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double kt, double mu,
-                          double damp, double dt)
+                          double damp, double dt, bool advance)
 {
   if (!c.active || !(c.fn > 0.0)) return 0.0;
   const Vec3 vrel = ((1.0 - c.xi) * v[0] + c.xi * v[1]) - ((1.0 - c.t) * v[2] + c.t * v[3]);
@@ -613,7 +613,8 @@ double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double k
   }
   double energy = 0.0;
   if (mu > 0.0) {
-    const FrictionResult fr = friction_step(slip, c.normal, vrel, dt, kt * c.length, fn, mu);
+    const FrictionResult fr =
+        friction_step(slip, c.normal, vrel, dt, kt * c.length, fn, mu, advance);
     ftot += fr.force;
     energy = fr.energy;
   }

@@ -259,15 +259,18 @@ void node_contact_batch(CapBatch &b, double core);
 //   slip:   history, slip vector [m] (updated in place; rotated into the tangent plane)
 //   normal: unit normal of the contact; vrel: velocity of A's contact point minus B's [m/s]
 //   kt:     tangential stiffness of this contact [N/m]; fn: normal force [N]; mu: friction coeff.
-// Returns the tangential force on A (B gets the opposite), |F_t| <= mu fn. A zero kt or fn gives
-// zero force and a zero slip.
+//   advance: false in the setup of a run: the force of the stored slip, -kt slip, with the slip
+//            left as it is (no rotation, no increment, no cap), which is the force the step that
+//            stored it returned, bit for bit (so a run cut into pieces is the same run)
+// Returns the tangential force on A (B gets the opposite), -kt slip with the updated slip,
+// |F_t| <= mu fn (to round-off). A zero kt or fn gives zero force and a zero slip.
 struct FrictionResult {
   Vec3 force;
   bool sliding = false;
   double energy = 0.0;    // elastic energy stored in the spring after the step [J]
 };
 FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, double dt, double kt,
-                             double fn, double mu);
+                             double fn, double mu, bool advance = true);
 
 // The tangential part of a contact computed by segment_contact (active, fn > 0; otherwise
 // nothing happens): a normal dashpot (damp per unit contact length [N s/m^2]: force
@@ -276,9 +279,9 @@ FrictionResult friction_step(Vec3 &slip, const Vec3 &normal, const Vec3 &vrel, d
 // length [Pa], capped by mu times the normal force including the dashpot). Both act at the
 // contact points (A0 + xi (A1 - A0) on A, B0 + t (B1 - B0) on B, the opposite force) and are
 // added to c.f. v: velocities of A0, A1, B0, B1; slip: the history (updated if mu > 0).
-// Returns the spring energy.
+// advance: as friction_step's (false: the force of the stored slip). Returns the spring energy.
 double contact_tangential(SegmentContact &c, const Vec3 *v, Vec3 &slip, double kt, double mu,
-                          double damp, double dt);
+                          double damp, double dt, bool advance = true);
 
 // Batched contact_tangential on the lanes of a ContactBatch whose law has been evaluated: lanes
 // with status 1 get the same results as contact_tangential (bitwise, the same operations), the
@@ -290,7 +293,7 @@ struct TangentialBatch {
   double kt[CONTACT_BATCH], mu[CONTACT_BATCH], damp[CONTACT_BATCH];
   double energy[CONTACT_BATCH];    // spring energy
 };
-void tangential_batch(ContactBatch &b, TangentialBatch &t, double dt);
+void tangential_batch(ContactBatch &b, TangentialBatch &t, double dt, bool advance = true);
 
 // The positions of the b.n lanes of b (and, with velocities, their velocities in t) copied from
 // node rows of 8 doubles (x, y, z, any, vx, vy, vz, any; each row on 32 bytes): lane l takes the

@@ -262,7 +262,7 @@ namespace {
   };
   inline __attribute__((always_inline)) FrictionLane
   friction_lane(double &sx, double &sy, double &sz, double nx, double ny, double nz, double vx,
-                double vy, double vz, double dt, double kt, double fn, double mu)
+                double vy, double vz, double dt, double kt, double fn, double mu, bool adv)
   {
     const bool valid = (kt > 0.0) & (fn > 0.0) & (mu > 0.0);
     // keep the stored slip in the current tangent plane, with its magnitude
@@ -280,20 +280,25 @@ namespace {
     qx += dt * (vx - vn * nx);
     qy += dt * (vy - vn * ny);
     qz += dt * (vz - vn * nz);
+    // (in the setup of a run, adv false: the stored slip as it is)
+    qx = adv ? qx : sx;
+    qy = adv ? qy : sy;
+    qz = adv ? qz : sz;
     const double mkt = -kt;
     double fx = mkt * qx, fy = mkt * qy, fz = mkt * qz;
     const double fm2 = fx * fx + fy * fy + fz * fz, cap = mu * fn;
-    const bool sliding = fm2 > cap * cap;
+    const bool sliding = adv & (fm2 > cap * cap);
     const double capf = cap / std::sqrt(sliding ? fm2 : 1.0);
     const double ikt = -1.0 / (valid ? kt : 1.0);
-    fx = sliding ? capf * fx : fx;
-    fy = sliding ? capf * fy : fy;
-    fz = sliding ? capf * fz : fz;
-    qx = sliding ? ikt * fx : qx;
-    qy = sliding ? ikt * fy : qy;
-    qz = sliding ? ikt * fz : qz;
+    qx = sliding ? ikt * (capf * fx) : qx;
+    qy = sliding ? ikt * (capf * fy) : qy;
+    qz = sliding ? ikt * (capf * fz) : qz;
+    // the force of the slip as it is kept (friction_step)
+    fx = mkt * qx;
+    fy = mkt * qy;
+    fz = mkt * qz;
     const double kts = valid ? kt : 1.0;
-    const double energy = sliding ? 0.5 * cap * cap / kts : 0.5 * fm2 / kts;
+    const double energy = 0.5 * (fx * fx + fy * fy + fz * fz) / kts;
     sx = valid ? qx : 0.0;
     sy = valid ? qy : 0.0;
     sz = valid ? qz : 0.0;
@@ -360,7 +365,8 @@ void fill_lanes_from_rows(ContactBatch &b, TangentialBatch &t, const double *X,
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #endif
-void tangential_batch(ContactBatch &__restrict b, TangentialBatch &__restrict t, double dt)
+void tangential_batch(ContactBatch &__restrict b, TangentialBatch &__restrict t, double dt,
+                      bool advance)
 {
   for (int l = 0; l < b.n; l++) {
     const double xi = b.xi[l], tt = b.t[l], len = b.length[l];
@@ -383,8 +389,8 @@ void tangential_batch(ContactBatch &__restrict b, TangentialBatch &__restrict t,
                  dz = damped ? 0.0 + fd * nz : 0.0;
     // slip spring (no force and a zero slip without friction)
     double sx = t.slip[0][l], sy = t.slip[1][l], sz = t.slip[2][l];
-    const FrictionLane r =
-        friction_lane(sx, sy, sz, nx, ny, nz, vr[0], vr[1], vr[2], dt, t.kt[l] * len, fn, t.mu[l]);
+    const FrictionLane r = friction_lane(sx, sy, sz, nx, ny, nz, vr[0], vr[1], vr[2], dt,
+                                         t.kt[l] * len, fn, t.mu[l], advance);
     const bool fric = t.mu[l] > 0.0;
     const double gx = fric ? dx + r.fx : dx, gy = fric ? dy + r.fy : dy, gz = fric ? dz + r.fz : dz;
     const double fx = go ? gx : 0.0, fy = go ? gy : 0.0, fz = go ? gz : 0.0;

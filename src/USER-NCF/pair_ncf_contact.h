@@ -80,7 +80,8 @@ class PairNCFContact : public Pair {
   bool use_velocity;    // friction or damping: ghost velocities needed
   int idx_cnb, idx_hist, idx_fc;
   int ncol;    // columns of the history array: 1 + 6 * maxcontacts
-  int comm_mode;
+  enum { COMM_HIST, COMM_FORCE };
+  int comm_mode;    // what forward/reverse communication carries: history rows, contact forces
 
   // per-step work arrays
   std::vector<double> endext;    // per local+ghost atom: extension at a free chain end [m]

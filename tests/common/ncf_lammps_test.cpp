@@ -29,7 +29,11 @@ std::string source_path(const std::string &relative)
 std::string scratch_dir(const std::string &name)
 {
   namespace fs = std::filesystem;
-  fs::path p = fs::current_path() / "scratch" / name;
+  // under the build folder ($NCF_BUILD, which ctest sets, else the one the tests were configured
+  // in), never in the source tree or wherever the test binary was started
+  const char *build = getenv("NCF_BUILD");
+  const fs::path root = (build && *build) ? fs::path(build) : fs::path(NCF_BINARY_DIR);
+  fs::path p = root / "test-output" / name;
   if (world_rank() == 0) {
     fs::remove_all(p);
     fs::create_directories(p);

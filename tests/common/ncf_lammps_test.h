@@ -22,7 +22,9 @@ namespace ncftest {
 // Path of a file in the source tree (e.g. "potentials/ncf.materials").
 std::string source_path(const std::string &relative);
 
-// A fresh, empty folder for one test's files (removed by nobody: it lives in the build tree).
+// A fresh, empty folder for one test's files: <build folder>/test-output/<name> (the build folder
+// is $NCF_BUILD, else the one CMake configured; never the source tree nor the working
+// directory). Removed by nobody: it lives in the build tree.
 std::string scratch_dir(const std::string &name);
 
 class Lammps {

@@ -331,6 +331,15 @@ TEST(Friction, StickBelowCapSlideAtCap)
   EXPECT_NEAR(NCF::norm(s3), std::sqrt(2.0) * 1e-8, 1e-20);    // magnitude kept by the rotation
   EXPECT_NEAR(NCF::norm(r3.force), kt * std::sqrt(2.0) * 1e-8, 1e-12);
   EXPECT_FALSE(r3.sliding);
+  // the setup of a run (advance false): the force of the stored slip, the slip as it is; after
+  // a sliding step, that step's force bit for bit
+  const Vec3 kept = slip;
+  auto rs = friction_step(slip, n, Vec3(5.0, 2.0, 0), dt, kt, fn, mu, false);
+  EXPECT_EQ(slip.x, kept.x);
+  EXPECT_EQ(slip.y, kept.y);
+  EXPECT_EQ(rs.force.x, r.force.x);
+  EXPECT_EQ(rs.force.y, r.force.y);
+  EXPECT_FALSE(rs.sliding);
   // mu = 0: no force, no history
   Vec3 s4(1e-5, 0, 0);
   auto r4 = friction_step(s4, n, v, dt, kt, fn, 0.0);

@@ -189,6 +189,70 @@ TEST(TangentialBatch, EqualsContactTangentialBitwise)
          sticking, sliding, clamped);
 }
 
+// The setup of a run (advance false): the friction force of the stored slip, the slip left as it
+// is; with the slip a step kept, that step's force bit for bit (so a run cut into pieces is the
+// same run). Without a dashpot (a setup has the full-step velocities, a step the half-step ones);
+// other velocities in the setup play no role. Batched and scalar alike.
+TEST(TangentialBatch, SetupGivesTheForceOfTheStepBefore)
+{
+  const std::vector<Pair> pairs = random_pairs(16000, 12);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const double dt = 1e-8;
+  int compared = 0, sliding = 0;
+  ContactBatch b;
+  NCF::TangentialBatch t;
+  for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
+    b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
+    for (int l = 0; l < b.n; l++) {
+      const Pair &p = pairs[start + l];
+      b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
+    }
+    NCF::segment_contact_batch(b, NCF::DEFAULT_CORE);
+    for (int l = 0; l < b.n; l++) {
+      const double speed = (start / NCF::CONTACT_BATCH) % 2 ? 10.0 : 0.01;
+      for (int k = 0; k < 12; k++) t.v[k][l] = speed * U(rng);
+      for (int d = 0; d < 3; d++) t.slip[d][l] = 1e-6 * U(rng);
+      t.kt[l] = 1e9 * (1.0 + U(rng));
+      t.mu[l] = 0.3;
+      t.damp[l] = 0.0;
+    }
+    const ContactBatch law = b;
+    NCF::tangential_batch(b, t, dt);    // a step
+    ContactBatch setup = law;
+    NCF::TangentialBatch ts = t;    // the slips the step kept, other velocities
+    for (int l = 0; l < b.n; l++)
+      for (int k = 0; k < 12; k++) ts.v[k][l] = U(rng);
+    NCF::tangential_batch(setup, ts, dt, false);
+    for (int l = 0; l < b.n; l++) {
+      if (!(law.status[l] > 0.0)) continue;
+      const int k = (int) (start + l);
+      NCF::SegmentContact c = law.result(l);
+      Vec3 s(t.slip[0][l], t.slip[1][l], t.slip[2][l]);
+      const Vec3 kept = s;
+      Vec3 vel[4];
+      for (int m = 0; m < 4; m++)
+        vel[m] = Vec3(ts.v[3 * m][l], ts.v[3 * m + 1][l], ts.v[3 * m + 2][l]);
+      NCF::contact_tangential(c, vel, s, t.kt[l], t.mu[l], 0.0, dt, false);
+      const NCF::SegmentContact got = setup.result(l), step = b.result(l);
+      for (int m = 0; m < 4; m++)
+        for (int d = 0; d < 3; d++) {
+          ASSERT_EQ(got.f[m][d], step.f[m][d]) << "pair " << k;
+          ASSERT_EQ(c.f[m][d], step.f[m][d]) << "pair " << k;
+        }
+      for (int d = 0; d < 3; d++) {
+        ASSERT_EQ(ts.slip[d][l], t.slip[d][l]) << "pair " << k;
+        ASSERT_EQ(s[d], kept[d]) << "pair " << k;
+      }
+      compared++;
+      if (NCF::norm(kept) * t.kt[l] * law.length[l] >= 0.3 * law.fn[l] * (1.0 - 1e-9)) sliding++;
+    }
+  }
+  EXPECT_GT(compared, 10000);
+  EXPECT_GT(sliding, 1000);
+  EXPECT_GT(compared - sliding, 1000);
+}
+
 // Segments at free chain ends: extending them (extend_segment), the batched law and
 // unextend_contact give what segment_contact gives with ContactOptions::ext (the scalar reference
 // of the end caps, which the pair style evaluates through virtual end nodes)

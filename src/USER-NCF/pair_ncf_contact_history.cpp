@@ -1,0 +1,209 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: pair_style ncf/contact (see pair_ncf_contact.h, doc/pair_ncf_contact.md)
+   The friction history: the slip a new contact takes over from a neighbouring pair, the
+   history buffers of the pair list loaded from and stored into the per-atom store, and the
+   forward communication of its rows.
+------------------------------------------------------------------------- */
+
+#include "pair_ncf_contact.h"
+#include "pair_ncf_contact_keys.h"
+
+#include "fix_ncf_contact_history.h"
+
+#include "atom.h"
+#include "error.h"
+
+#include <cstring>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace NCF_PairContact;
+
+void PairNCFContact::other_partner(tagint node, tagint not_this, tagint &out) const
+{
+  out = 0;
+  const int m = atom->map(node);
+  if (m < 0) return;
+  double **cnb = atom->darray[idx_cnb];
+  for (int s = 0; s < 2; s++) {
+    const tagint p = (tagint) cnb[m][s];
+    if (p != 0 && p != not_this) out = p;
+  }
+}
+
+// stored slip of the pair (segment owner-ohi, segment blo-bhi) in the history row of the atom
+// with index m (the owner node), nullptr if none
+const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
+{
+  const double *row = atom->darray[idx_hist][m];
+  const int n = (int) row[0];
+  // tags are stored exactly as doubles: compare them as such
+  const double h = (double) ohi, l = (double) blo, b = (double) bhi;
+  for (int k = 0; k < n && k < maxcontacts; k++) {
+    const double *s = row + 1 + 6 * k;
+    if (s[0] == h && s[1] == l && s[2] == b) return s + 3;
+  }
+  return nullptr;
+}
+
+// the slip of the previous step of the pair (segment owner-ohi, segment blo-bhi) owned by the
+// local node m, from the pair list entries of m, nullptr if none (what find_slip_row finds in the
+// row of m, which is only written when LAMMPS needs it: sync_history)
+const double *PairNCFContact::find_slip_entry(int m, tagint ohi, tagint blo, tagint bhi) const
+{
+  const tagint *tag = atom->tag;
+  const unsigned char *has = phas[hlast].data();
+  for (int e = pfirst[m]; e < pfirst[m + 1]; e++) {
+    if (!has[e]) continue;
+    const PairCand &pc = plist[e];
+    if (tag[real_of(pc.a1)] == ohi && tag[real_of(pc.b0)] == blo && tag[real_of(pc.b1)] == bhi)
+      return &pslip[hlast][3 * (size_t) e];
+  }
+  return nullptr;
+}
+
+// a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
+// one segment further along one of them), so that a contact point sliding over a node keeps its
+// history; only values of the previous step are read (the same on any number of ranks)
+// local_only: only rows of owned nodes are up to date (the ghost rows have not been communicated
+// this step); returns false, without a result, when a ghost's row would be needed
+bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                                  bool local_only) const
+{
+  const SegKey A{a0, a1}, B{b0, b1};
+  SegKey cand[4][2];
+  int nc = 0;
+  tagint p;
+  other_partner(b0, b1, p);
+  if (p) cand[nc][0] = A, cand[nc++][1] = make_key(b0, p);
+  other_partner(b1, b0, p);
+  if (p) cand[nc][0] = A, cand[nc++][1] = make_key(b1, p);
+  other_partner(a0, a1, p);
+  if (p) cand[nc][0] = make_key(a0, p), cand[nc++][1] = B;
+  other_partner(a1, a0, p);
+  if (p) cand[nc][0] = make_key(a1, p), cand[nc++][1] = B;
+  for (int c = 0; c < nc; c++) {
+    const SegKey &X = cand[c][0], &Y = cand[c][1];
+    if (share_node(X, Y)) continue;
+    const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
+    const int m = atom->map(M.lo);
+    if (m < 0) continue;
+    if (m >= atom->nlocal && local_only) return false;
+    // (the rows of ghosts are communicated for the deferred take-overs, the local rows not
+    // written every step)
+    const double *s = m < atom->nlocal ? find_slip_entry(m, M.hi, O.lo, O.hi)
+                                       : find_slip_row(m, M.hi, O.lo, O.hi);
+    if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
+      slip[0] = s[0];
+      slip[1] = s[1];
+      slip[2] = s[2];
+      return true;
+    }
+  }
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   friction history: between two list builds it lives with the pair list entries, in two
+   buffers (pslip, phas): one holds the slips of the last step, read by this step (also by the
+   take-overs of new contacts, so that every rank sees the same values whatever the order of its
+   list), the other receives the slips of this step. The per-atom store (NCF_CONTACT_HIST, rows of
+   the owner nodes) is what LAMMPS migrates, sorts and writes to restart files: it is read at
+   every build and written only when LAMMPS needs it (sync_history, from fix
+   ncf/contact/history before atoms migrate and at the end of a run; and for the take-overs that
+   need the rows of ghosts)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::load_history()
+{
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  const size_t np = plist.size();
+  hlast = 0;
+  for (int b = 0; b < 2; b++) {
+    pslip[b].assign(3 * np, 0.0);
+    phas[b].assign(np, 0);
+  }
+  for (size_t e = 0; e < np; e++) {
+    const PairCand &pc = plist[e];
+    if (hist[pc.a0][0] == 0.0) continue;
+    const double *old = find_slip_row(pc.a0, tag[pc.a1], tag[pc.b0], tag[pc.b1]);    // (real)
+    if (!old) continue;
+    memcpy(&pslip[0][3 * e], old, 3 * sizeof(double));
+    phas[0][e] = 1;
+  }
+  rows_current = true;
+}
+
+// the per-atom rows of the owned nodes from history buffer b (hlast: the last step's)
+void PairNCFContact::store_history(int b)
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **hist = atom->darray[idx_hist];
+  if (nlocal != lists_nlocal)
+    error->one(FLERR,
+               "pair ncf/contact: the atoms changed before their friction history was stored "
+               "(a fix added, deleted or moved atoms in pre_exchange before fix {}: define such "
+               "fixes after pair_style ncf/contact)",
+               FixNCFContactHistory::ID);
+  const unsigned char *has = phas[b].data();
+  const double *slip = pslip[b].data();
+  for (int i = 0; i < nlocal; i++) {
+    double *row = hist[i];
+    int n = 0;
+    // the entries of a node are consecutive (build_lists)
+    for (int e = pfirst[i]; e < pfirst[i + 1]; e++) {
+      if (!has[e]) continue;
+      if (n >= maxcontacts)
+        error->one(FLERR,
+                   "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
+                   "maxcontacts",
+                   tag[i], maxcontacts);
+      const PairCand &pc = plist[e];
+      double *h = row + 1 + 6 * n;
+      // the slot: key of A's partner and of B, then the slip
+      h[0] = (double) tag[real_of(pc.a1)];
+      h[1] = (double) tag[real_of(pc.b0)];
+      h[2] = (double) tag[real_of(pc.b1)];
+      memcpy(h + 3, slip + 3 * (size_t) e, 3 * sizeof(double));
+      n++;
+    }
+    row[0] = n;
+  }
+}
+
+void PairNCFContact::sync_history()
+{
+  if (!use_history || !lists_valid || rows_current) return;
+  store_history(hlast);
+  rows_current = true;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
+                                      int * /*pbc*/)
+{
+  // variable length: per atom the number of contacts, then 6 values per contact
+  double **hist = atom->darray[idx_hist];
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const double *row = hist[list[k]];
+    const int len = 1 + 6 * (int) row[0];
+    memcpy(buf + m, row, sizeof(double) * len);
+    m += len;
+  }
+  return m;
+}
+
+void PairNCFContact::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **hist = atom->darray[idx_hist];
+  int m = 0;
+  for (int k = first; k < first + n; k++) {
+    const int len = 1 + 6 * (int) buf[m];
+    memcpy(hist[k], buf + m, sizeof(double) * len);
+    m += len;
+  }
+}

@@ -1,0 +1,546 @@
+/* ----------------------------------------------------------------------
+   USER-NCF: pair_style ncf/contact (see pair_ncf_contact.h, doc/pair_ncf_contact.md)
+   The candidate lists: the segments of every local and ghost node, the grids of boxes binned by
+   their centres, and the pair list and node caps built from them when LAMMPS reneighbours.
+------------------------------------------------------------------------- */
+
+#include "pair_ncf_contact.h"
+#include "pair_ncf_contact_keys.h"
+
+#include "atom.h"
+#include "domain.h"
+#include "error.h"
+#include "neighbor.h"
+
+#include "ncf_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using NCF::Vec3;
+using NCF_PairContact::SegKey;
+using NCF_PairContact::share_node;
+
+namespace {
+// the reach of a pair list entry (PairCand::reach): a float not above gap / grow, one float step
+// lower still, so that gap - grow s < 0 (in double precision) implies reach < s for every s >= 0
+inline float entry_reach(double gap, double grow)
+{
+  const double q = gap / grow;
+  float r = (float) q;
+  if ((double) r > q) r = std::nextafter(r, -HUGE_VALF);
+  return std::nextafter(r, -HUGE_VALF);
+}
+
+// How fast the gap between two segments extended beyond their nodes can close: if no node of A
+// moved more than m_A and no node of B more than m_B since the build, the extended segments are
+// at most g (m_A + m_B) closer than they were. An end extended by E along a segment of length L
+// (at the build) moves by at most m + E |change of the unit vector| <= m + E 2 (2 m) / L.
+// la, lb: lengths of A and B; ea, eb: their largest extension. Rounded up; a huge value for a
+// degenerate extended segment (always evaluated).
+inline double gap_growth(double la, double ea, double lb, double eb)
+{
+  constexpr double HUGE_GROWTH = 1e30;
+  double g = 1.0;
+  const double l[2] = {la, lb}, e[2] = {ea, eb};
+  for (int k = 0; k < 2; k++) {
+    if (!(e[k] > 0.0)) continue;
+    if (!(l[k] > 4.0 * e[k] / HUGE_GROWTH)) return HUGE_GROWTH;
+    g = std::max(g, 1.0 + 4.0 * e[k] / l[k]);
+  }
+  return std::min(g * (1.0 + 1e-6), HUGE_GROWTH);
+}
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   partner indices of the segments owned by every local and ghost atom (2 slots per atom):
+   -1 no segment, -2 partner node not present on this rank
+------------------------------------------------------------------------- */
+
+void PairNCFContact::set_segments()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
+  double **cnb = atom->darray[idx_cnb];
+  double **x = atom->x;
+  segp.assign(2 * (size_t) nall, -1);
+  nbr.assign(2 * (size_t) nall, -1);
+  for (int k = 0; k < nall; k++)
+    for (int s = 0; s < 2; s++) {
+      const tagint p = (tagint) cnb[k][s];
+      if (p == 0) continue;
+      const int m = atom->map(p);
+      int q = (m < 0) ? -2 : domain->closest_image(k, m);
+      if (q >= 0 && k >= nlocal) {
+        // a ghost at the outer edge of the ghost shell may lack the image of its partner that
+        // belongs to it (closest_image then returns a far one): treat it as missing
+        const double ex = x[q][0] - x[k][0], ey = x[q][1] - x[k][1], ez = x[q][2] - x[k][2];
+        if (ex * ex + ey * ey + ez * ez > lmax_used * lmax_used * (1.0 + 1e-12)) q = -2;
+      }
+      nbr[2 * k + s] = q;
+      if (p <= tag[k]) continue;
+      segp[2 * k + s] = q;
+    }
+}
+
+/* ----------------------------------------------------------------------
+   boxes binned by their centres (build_lists)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::BoxGrid::clear()
+{
+  cx.clear();
+  cy.clear();
+  cz.clear();
+  hx.clear();
+  hy.clear();
+  hz.clear();
+  r.clear();
+  t0.clear();
+  t1.clear();
+  t2.clear();
+  i0.clear();
+  i1.clear();
+}
+
+void PairNCFContact::BoxGrid::add(const double *c, const double *h, double rad, tagint a, tagint b,
+                                  tagint q, int j0, int j1)
+{
+  cx.push_back(c[0]);
+  cy.push_back(c[1]);
+  cz.push_back(c[2]);
+  hx.push_back(h[0]);
+  hy.push_back(h[1]);
+  hz.push_back(h[2]);
+  r.push_back(rad);
+  t0.push_back(a);
+  t1.push_back(b);
+  t2.push_back(q);
+  i0.push_back(j0);
+  i1.push_back(j1);
+}
+
+// bins c0..c1 (per direction) that hold every centre in the box lo_pos..hi_pos: the bin index is
+// monotonic in the position (clamped to the grid; no conversion of an out-of-range value to int)
+void PairNCFContact::BoxGrid::cells(const double *lo_pos, const double *hi_pos, int *c0,
+                                    int *c1) const
+{
+  for (int d = 0; d < 3; d++) {
+    const double top = nb[d] - 1;
+    double a = (lo_pos[d] - lo[d]) * inv[d], b = (hi_pos[d] - lo[d]) * inv[d];
+    a = a < 0.0 ? 0.0 : (a > top ? top : a);
+    b = b < 0.0 ? 0.0 : (b > top ? top : b);
+    c0[d] = (int) a;
+    c1[d] = (int) b;
+  }
+}
+
+// the entries of the grid whose (inflated) box overlaps the box of centre c and half extents h,
+// with keep(filter record) true, into cand (returns their number). The tests run without branches
+// (most entries of the scanned rows fail, unpredictably), in single precision with the slack of
+// the grid plus 1e-6 of the half extents
+template <class Keep>
+int PairNCFContact::BoxGrid::scan(const double *c, const double *h, Keep keep, int *cand) const
+{
+  double rlo[3], rhi[3];
+  for (int d = 0; d < 3; d++) {
+    rlo[d] = c[d] - (h[d] + hmax[d]);
+    rhi[d] = c[d] + (h[d] + hmax[d]);
+  }
+  int c0[3], c1[3];
+  cells(rlo, rhi, c0, c1);
+  float fa[3], fh[3];
+  const float fs = fslack + (float) (1e-6 * (h[0] + h[1] + h[2]));
+  for (int d = 0; d < 3; d++) {
+    fa[d] = (float) (c[d] - lo[d]);
+    fh[d] = (float) h[d] + fs;
+  }
+  const Filter *f = fb.data();
+  int nc = 0;
+  for (int cz = c0[2]; cz <= c1[2]; cz++)
+    for (int cy = c0[1]; cy <= c1[1]; cy++) {
+      const int row = (cz * nb[1] + cy) * nb[0];
+      const int nend = start[row + c1[0] + 1];
+      for (int n = start[row + c0[0]]; n < nend; n++) {
+        const Filter &b = f[n];
+        cand[nc] = n;
+        nc += keep(b) & (std::fabs(fa[0] - b.c[0]) <= fh[0] + b.h[0]) &
+            (std::fabs(fa[1] - b.c[1]) <= fh[1] + b.h[1]) &
+            (std::fabs(fa[2] - b.c[2]) <= fh[2] + b.h[2]);
+      }
+    }
+  return nc;
+}
+
+// sort the entries of a grid by bin (counting sort through gtmp) and fill its bin index. Bins of
+// about the largest half extent per direction: a search reaches over (own + largest) half extent
+// on either side, a few bins, and the rows it scans are not much longer than the search box
+void PairNCFContact::bin_grid(BoxGrid &g)
+{
+  const int n = (int) g.cx.size();
+  const std::vector<double> *cen[3] = {&g.cx, &g.cy, &g.cz};
+  const std::vector<double> *hal[3] = {&g.hx, &g.hy, &g.hz};
+  double hi[3];
+  for (int d = 0; d < 3; d++) {
+    g.lo[d] = 1e300;
+    hi[d] = -1e300;
+    g.hmax[d] = 0.0;
+    for (int k = 0; k < n; k++) {
+      g.lo[d] = MIN(g.lo[d], (*cen[d])[k]);
+      hi[d] = MAX(hi[d], (*cen[d])[k]);
+      g.hmax[d] = MAX(g.hmax[d], (*hal[d])[k]);
+    }
+  }
+  if (n == 0) {
+    for (int d = 0; d < 3; d++) {
+      g.nb[d] = 1;
+      g.lo[d] = 0.0;
+      g.inv[d] = 1.0;
+    }
+    g.start.assign(2, 0);
+    g.fb.clear();
+    g.fslack = 0.0f;
+    return;
+  }
+  double bs[3];
+  for (int d = 0; d < 3; d++) {
+    bs[d] = MAX(g.hmax[d], 1e-6 * (hi[d] - g.lo[d]));
+    if (!(bs[d] > 0.0)) bs[d] = 1.0;
+  }
+  for (;;) {
+    double total = 1.0;
+    for (int d = 0; d < 3; d++) {
+      g.nb[d] = (int) MIN((hi[d] - g.lo[d]) / bs[d], 1e8) + 1;
+      total *= g.nb[d];
+    }
+    if (total <= 4.0 * n + 1000.0) break;
+    for (int d = 0; d < 3; d++) bs[d] *= 1.5;
+  }
+  for (int d = 0; d < 3; d++) g.inv[d] = 1.0 / bs[d];
+  const int nbins = g.nb[0] * g.nb[1] * g.nb[2];
+  g.start.assign(nbins + 1, 0);
+  gbin.resize(n);
+  for (int k = 0; k < n; k++) {
+    const double c[3] = {g.cx[k], g.cy[k], g.cz[k]};
+    int c0[3], c1[3];
+    g.cells(c, c, c0, c1);
+    gbin[k] = (c0[2] * g.nb[1] + c0[1]) * g.nb[0] + c0[0];
+    g.start[gbin[k] + 1]++;
+  }
+  for (int b = 0; b < nbins; b++) g.start[b + 1] += g.start[b];
+  gfill.assign(g.start.begin(), g.start.end() - 1);
+  // positions of the entries in bin order
+  for (int k = 0; k < n; k++) gbin[k] = gfill[gbin[k]]++;
+  auto put = [&](auto &src, auto &dst) {
+    dst.resize(n);
+    for (int k = 0; k < n; k++) dst[gbin[k]] = src[k];
+    src.swap(dst);
+  };
+  put(g.cx, gtmp.cx);
+  put(g.cy, gtmp.cy);
+  put(g.cz, gtmp.cz);
+  put(g.hx, gtmp.hx);
+  put(g.hy, gtmp.hy);
+  put(g.hz, gtmp.hz);
+  put(g.r, gtmp.r);
+  put(g.t0, gtmp.t0);
+  put(g.t1, gtmp.t1);
+  put(g.t2, gtmp.t2);
+  put(g.i0, gtmp.i0);
+  put(g.i1, gtmp.i1);
+
+  // single precision copies for the box test: centres relative to lo. The round-off of a test
+  // that holds exactly (a few roundings, relative 2^-24 each, of values below the span of the
+  // grid plus the half extents of the two boxes) stays far below the slack of 1e-6 (span +
+  // 2 hmax) plus 1e-6 times the half extents of the searching box added to its bound
+  double big = 0.0;
+  for (int d = 0; d < 3; d++) big = MAX(big, (hi[d] - g.lo[d]) + 2.0 * g.hmax[d]);
+  g.fslack = (float) (1e-6 * big);
+  g.fb.resize(n);
+  for (int k = 0; k < n; k++) {
+    BoxGrid::Filter &f = g.fb[k];
+    f.c[0] = (float) (g.cx[k] - g.lo[0]);
+    f.c[1] = (float) (g.cy[k] - g.lo[1]);
+    f.c[2] = (float) (g.cz[k] - g.lo[2]);
+    f.h[0] = (float) g.hx[k];
+    f.h[1] = (float) g.hy[k];
+    f.h[2] = (float) g.hz[k];
+    f.k0 = g.t0[k];
+    f.k1 = g.t1[k];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   candidate lists, rebuilt only when LAMMPS reneighbours (ghosts and atom indices change only
+   then). Between two builds no node moves more than skin/2 (the distance check of LAMMPS, which
+   also accounts for a changing box), so the distance of two segments (or of a segment and a
+   node) changes by less than the skin: a pair farther apart than its reach plus the skin at the
+   build cannot come into contact before the next build.
+   A segment pair is kept when the distance of the two segments is below D (1 + ramp) + skin plus
+   the extensions at free chain ends of both (the law is zero unless A comes within D of B
+   extended by the ramps), a node cap when the distance of the segment from the node is below
+   D + skin. Candidates come from grids of boxes binned by their centres (local and ghost
+   segments and nodes, periodic images included):
+   - a segment's box is its bounding box, inflated on every side by its own extension at free
+     ends and by half the largest reach + skin: two segments within reach + skin + extensions
+     have boxes that overlap (|centre difference| <= sum of half extents per direction: the two
+     closest points lie in the bounding boxes). Likewise for the bounding spheres;
+   - segments extended at free ends (few) have a grid of their own, so that their larger boxes
+     do not widen the search of all the others;
+   - the caps: a grid of the interior nodes, boxes of half width D + skin around the node.
+   All bounds carry a small slack for round-off, so the candidates are a superset of the pairs
+   and caps the exact tests below keep.
+------------------------------------------------------------------------- */
+
+void PairNCFContact::build_lists()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  double **x = atom->x;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const double skin = neighbor->skin;
+  double **cnb = atom->darray[idx_cnb];
+
+  set_segments();
+  // extension of the segments at free chain ends (nodes with one bond), per local/ghost node
+  endext.assign(nall, 0.0);
+  for (int k = 0; k < nall; k++)
+    if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];
+  plist.clear();
+  clist.clear();
+  xbuild.resize(3 * (size_t) nall);
+  double xabs = 0.0;
+  for (int k = 0; k < nall; k++)
+    for (int d = 0; d < 3; d++) {
+      xbuild[3 * (size_t) k + d] = x[k][d];
+      xabs = std::max(xabs, std::fabs(x[k][d]));
+    }
+
+  // every owned segment has its partner here; the longest of them
+  lseg_build = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int sa = 0; sa < 2; sa++) {
+      const int p = segp[2 * i + sa];
+      if (p == -2)
+        error->one(FLERR, "pair ncf/contact: partner node of owned node {} is missing on this rank",
+                   tag[i]);
+      if (p >= 0) lseg_build = std::max(lseg_build, NCF::norm(Vec3(x[p]) - Vec3(x[i])));
+    }
+
+  // largest reach + skin of a segment pair (without the extensions at free ends)
+  const double margin = reach_max + skin;
+  // slack for the round-off of the bounds (relative to the reach, and to the coordinates that
+  // the distances are computed from)
+  const double slack = 1e-9 * margin + 1e-12 * xabs;
+  const double hm = 0.5 * margin + slack;
+  // (the gap of a pair list entry is rounded down by this much)
+  const double gap_slack = 1e-9 * reach_max + 1e-12 * xabs;
+
+  // segment pair (A = ao-ia with ao owned, B = bo-jb), key(A) < key(B) checked by the caller:
+  // kept if the two segments are within reach + skin
+  auto add_pair = [&](int ao, int ia, int bo, int jb) {
+    const double lim = reachf[type[ao]][type[bo]] + skin;
+    if (jb == -2) {
+      // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the
+      // sub-domain), so no point of B is within reach + skin of A (A reaches at most lmax beyond
+      // the sub-domain, B is at most lmax long). An error if B's own end node is that close:
+      // then the shell is too short for this pair.
+      const NCF::ClosestPoints cp =
+          NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[bo]));
+      if (cp.dist2 < lim * lim)
+        error->one(FLERR,
+                   "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                   "present on this rank; communication cutoff too short",
+                   tag[bo], tag[ao]);
+      return;
+    }
+    const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
+    if (share_node(A, B)) return;
+    // the law is zero while A, extended at free chain ends, stays D away from B, extended there
+    // and by the ramp half-width e beyond both nodes (NCF::segment_contact_possible): the entry
+    // keeps that gap at the build, and a bound of how fast it can close (growth)
+    const TypePair &tp = tpar[type_pair(type[ao], type[bo])];
+    Vec3 pa0(x[ao]), pa1(x[ia]), pb0(x[bo]), pb1(x[jb]);
+    const double la = NCF::norm(pa1 - pa0), lb = NCF::norm(pb1 - pb0);
+    NCF::extend_segment(pa0, pa1, endext[ao], endext[ia]);
+    NCF::extend_segment(pb0, pb1, endext[bo] + tp.ramp, endext[jb] + tp.ramp);
+    const double gap =
+        std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
+    const double grow =
+        gap_growth(la, MAX(endext[ao], endext[ia]), lb, MAX(endext[bo], endext[jb]) + tp.ramp);
+    // no node moves more than skin / 2 before the next build (checked in compute)
+    if (gap >= grow * skin) return;
+    const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 ||
+        endext[jb] != 0.0;
+    plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
+                     entry_reach(gap, grow)});
+  };
+
+  // the boxes: every segment (owner node, partner) known here, and every interior node
+  gseg.clear();
+  gext.clear();
+  gcap.clear();
+  const double hcap = (diam_max + skin) * (1.0 + 1e-9) + slack;
+  const double hcapv[3] = {hcap, hcap, hcap};
+  for (int k = 0; k < nall; k++) {
+    for (int sl = 0; sl < 2; sl++) {
+      const int p = segp[2 * k + sl];
+      if (p == -1) continue;
+      if (p >= 0) {
+        double c[3], h[3], l2 = 0.0;
+        const double e = endext[k] + endext[p];
+        for (int d = 0; d < 3; d++) {
+          const double dx = x[p][d] - x[k][d];
+          c[d] = x[k][d] + 0.5 * dx;
+          h[d] = 0.5 * std::fabs(dx) + e + hm;
+          l2 += dx * dx;
+        }
+        (e > 0.0 ? gext : gseg).add(c, h, 0.5 * std::sqrt(l2) + e + hm, tag[k], tag[p], 0, k, p);
+      } else {
+        // partner missing: only its node is known (an error if that node is within reach + skin
+        // of an owned segment, which needs no extension)
+        const double h[3] = {hm, hm, hm};
+        gseg.add(x[k], h, hm, tag[k], (tagint) cnb[k][sl], 0, k, -2);
+      }
+    }
+    if (cnb[k][0] != 0.0 && cnb[k][1] != 0.0)
+      gcap.add(x[k], hcapv, hcap, tag[k], (tagint) cnb[k][0], (tagint) cnb[k][1], k, -1);
+  }
+  bin_grid(gseg);
+  bin_grid(gext);
+  bin_grid(gcap);
+  gcand.resize(MAX(MAX(gseg.cx.size(), gext.cx.size()), gcap.cx.size()));
+
+  // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
+  // lists come out in that order, so that the positions, forces and history rows of a step are
+  // visited nearly in memory order (store_history relies on it)
+  pfirst.resize(nlocal + 1);
+  for (int ao = 0; ao < nlocal; ao++) {
+    pfirst[ao] = (int) plist.size();
+    for (int sa = 0; sa < 2; sa++) {
+      const int ia = segp[2 * ao + sa];
+      if (ia < 0) continue;
+      const tagint ta = tag[ao], tpa = tag[ia];
+      const double ea = endext[ao] + endext[ia];
+      double ca[3], exa[3], ha[3], l2 = 0.0;
+      for (int d = 0; d < 3; d++) {
+        const double dx = x[ia][d] - x[ao][d];
+        ca[d] = x[ao][d] + 0.5 * dx;
+        exa[d] = 0.5 * std::fabs(dx);
+        ha[d] = exa[d] + ea + hm;
+        l2 += dx * dx;
+      }
+      const double ra = 0.5 * std::sqrt(l2) + ea + hm;
+
+      // segment pairs: boxes, then bounding spheres, overlap. The boxes are tested without
+      // branches (most entries of the scanned rows fail, unpredictably), the entries that pass
+      // collected in gcand
+      for (const BoxGrid *gp : {&gseg, &gext}) {
+        const BoxGrid &g = *gp;
+        const double *gx = g.cx.data(), *gy = g.cy.data(), *gz = g.cz.data(), *gr = g.r.data();
+        int *cand = gcand.data();
+        // B after A in the key order
+        const int nc = g.scan(
+            ca, ha,
+            [ta, tpa](const BoxGrid::Filter &b) {
+              return (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));
+            },
+            cand);
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
+          const double lim = ra + gr[n];
+          if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
+          add_pair(ao, ia, g.i0[n], g.i1[n]);
+        }
+      }
+
+      // node caps: interior nodes of other chains (or far along this one) near segment A
+      {
+        const BoxGrid &g = gcap;
+        int *cand = gcand.data();
+        // the node within D + skin of A's bounding box first (most candidates are not)
+        const int nc = g.scan(
+            ca, exa,
+            [](const BoxGrid::Filter &) {
+              return true;
+            },
+            cand);
+        const Vec3 a0(x[ao]), a1(x[ia]);
+        for (int c = 0; c < nc; c++) {
+          const int n = cand[c];
+          const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
+          if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
+          const int k = g.i0[n];
+          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          const double dist2 = NCF::point_segment_dist2(a0, a1, Vec3(x[k]));
+          if (dist2 >= dcap * dcap) continue;
+          const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+          if (kp < 0 || kq < 0)
+            error->one(FLERR,
+                       "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                       "present on this rank; communication cutoff too short",
+                       tag[k], tag[ao], tag[ia]);
+          const int tpk = type_pair(type[ao], type[k]);
+          clist.push_back({ao, ia, kp, k, kq, tpk, std::sqrt(dist2) - tpar[tpk].dc - gap_slack});
+        }
+      }
+    }
+  }
+  pfirst[nlocal] = (int) plist.size();
+  if (use_history) load_history();
+
+  // the ghosts that a list entry or cap refers to (the others, beyond the reach of any, need no
+  // node row)
+  std::vector<char> used(nall - nlocal, 0);
+  auto mark = [&](int k) {
+    if (k >= nlocal) used[k - nlocal] = 1;
+  };
+  for (const PairCand &pc : plist) {
+    mark(pc.a1);
+    mark(pc.b0);
+    mark(pc.b1);
+  }
+  for (const CapCand &cc : clist) {
+    mark(cc.a1);
+    mark(cc.p);
+    mark(cc.n);
+    mark(cc.q);
+  }
+  ghosts_used.clear();
+  for (int k = nlocal; k < nall; k++)
+    if (used[k - nlocal]) ghosts_used.push_back(k);
+
+  // The segments at free chain ends enter the law extended (end caps): the free end k by
+  // endext[k] along its segment. In the pair list entries such a node is replaced by a virtual
+  // node (index nall + v), whose row holds the extended end (its position and velocity, from
+  // those of k and its chain neighbour; compute) and which collects the contact forces on it,
+  // mapped back onto k and the neighbour at the end of the step (the chain rule). So the lanes
+  // of the batched law need no extension and no mapping back of their own. (Its displacement
+  // bound is that of k: the gaps and growth bounds of the list already count the extension.)
+  nall_build = nall;
+  vreal.clear();
+  vnbr.clear();
+  std::vector<int> vof(nall, -1);
+  for (PairCand &pc : plist) {
+    if (!pc.ext) continue;
+    const int node[4] = {pc.a0, pc.a1, pc.b0, pc.b1};
+    int *slot[4] = {&pc.a0, &pc.a1, &pc.b0, &pc.b1};
+    for (int m = 0; m < 4; m++) {
+      const int k = node[m], j = node[m ^ 1];    // the segment's other node
+      if (endext[k] == 0.0) continue;
+      if (vof[k] < 0) {
+        vof[k] = (int) vreal.size();
+        vreal.push_back(k);
+        vnbr.push_back(j);
+      } else if (vnbr[vof[k]] != j)
+        error->one(FLERR, "pair ncf/contact: free chain end {} has two different neighbours {}, {}",
+                   tag[k], tag[vnbr[vof[k]]], tag[j]);
+      *slot[m] = nall + vof[k];
+    }
+  }
+}
