@@ -18,7 +18,12 @@ done
 /usr/bin/python3 "$here/report_manufacturing.py" small --dir "$out" --out "$out/report.md"
 
 # 1, 2 and 4 MPI ranks through stages 2-4 from the same compacted mat, a fixed and small number
-# of steps per stage (fast needles, short holds and ramp): the same trajectory to round-off
+# of steps per stage (fast needles, short holds and ramp): the same trajectory up to round-off and
+# its growth. The sums of forces are done in another order on each rank count, and contacts with
+# friction amplify those last-bit differences step by step (measured: 1e-13 m after the ~800 steps
+# of stage 2, 1e-11 m after stage 3, 1e-9 m after stage 4's ~500 more); the bound, 1e-5 chain
+# diameters (0.7 nm), is far below what a force missing on a ghost or counted twice gives over
+# these steps (of the order of the force times dt^2 per step: micrometres)
 for np in 1 2 4; do
   mkdir -p "$out/np$np"
   cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,compact.restart} "$out/np$np/"
@@ -29,6 +34,11 @@ done
 /usr/bin/python3 - "$out" <<'PY'
 import sys
 out = sys.argv[1]
+def diameter(path):
+    for line in open(path):
+        if line.startswith("variable ncf_d_fibre equal"):
+            return float(line.split()[3])
+    raise SystemExit(f"FAIL: no ncf_d_fibre in {path}")
 def atoms(path):
     box, pos, sec = {}, {}, None
     for line in open(path):
@@ -45,6 +55,7 @@ def atoms(path):
             pos[int(w[0])] = (x + ix * box["x"], y + iy * box["y"], z)
     return pos, max(box.values())
 ok = True
+tol = 1e-5 * diameter(f"{out}/np1/small.settings.lmp")
 for stage in ("pierce", "stitch", "pretension"):
     ref, size = atoms(f"{out}/np1/small.{stage}.data")
     for np in (2, 4):
@@ -52,9 +63,9 @@ for stage in ("pierce", "stitch", "pretension"):
         if other.keys() != ref.keys():
             print(f"FAIL: {stage}: {np} ranks have other atoms than 1 rank"); ok = False; continue
         d = max(abs(a - b) for i in ref for a, b in zip(ref[i], other[i]))
-        good = d <= 1e-9 * size
+        good = d <= tol
         ok &= good
         print(f"{stage}: {np} ranks vs 1 rank, largest position difference {d:.3g} m "
-              f"({d / size:.2g} of the box): {'ok' if good else 'FAIL'}")
+              f"({d / size:.2g} of the box, bound {tol:.2g} m): {'ok' if good else 'FAIL'}")
 sys.exit(0 if ok else 1)
 PY
