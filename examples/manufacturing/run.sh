@@ -20,7 +20,8 @@
 #   NCF_RVE      "R_W R_L" RVE repetitions (default: the card's)
 #   NCF_PDYN     accepted dynamic pressure of the compaction [Pa] (default 1e4)
 #   NCF_LMP_ARGS extra LAMMPS arguments for every stage, e.g. "-var tau 1000"
-#   NCF_ARGS_<stage>  extra LAMMPS arguments for one stage, e.g. NCF_ARGS_pierce="-var hold 500"
+#   NCF_ARGS_<stage>  extra LAMMPS arguments for one stage, e.g. NCF_ARGS_pierce="-var hold 500";
+#                they come first, so they win over NCF_LMP_ARGS (LAMMPS keeps the first -var)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(mkdir -p "${1:-$here/out}" && cd "${1:-$here/out}" && pwd)
@@ -56,9 +57,9 @@ run_stage() {    # fab index name
   local fab=$1 k=$2 name=$3 log="$1.$3.log" t0=$SECONDS pid line tty=0
   [ -t 1 ] && tty=1
   local extra="NCF_ARGS_$name"
-  # shellcheck disable=SC2086
+  # shellcheck disable=SC2086  (word splitting of the extra arguments is wanted)
   run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" -var pdyn "$pdyn" \
-    ${NCF_LMP_ARGS:-} ${!extra:-} -log "$log" -screen none &
+    ${!extra:-} ${NCF_LMP_ARGS:-} -log "$log" -screen none &
   pid=$!
   local last_print=$SECONDS
   while kill -0 $pid 2>/dev/null; do

@@ -9,7 +9,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=${1:-$(mktemp -d)}
 rm -rf "$out" && mkdir -p "$out"
 NCF_NP=${NCF_NP:-1} NCF_LMP_ARGS="-var hold 1000 -var release 1500 -var ramp 4000 -var relax 3000" \
-  bash "$here/run.sh" "$out" "$here/small.card"
+  NCF_ARGS_pierce="-var hold 2000" bash "$here/run.sh" "$out" "$here/small.card"
 for stage in compact pierce stitch pretension release; do
   for ext in restart data dump png log; do
     [ -s "$out/small.$stage.$ext" ] || { echo "FAIL: no small.$stage.$ext"; exit 1; }
@@ -20,15 +20,16 @@ done
 # 1, 2 and 4 MPI ranks through stages 2-4 from the same compacted mat, a fixed and small number
 # of steps per stage (fast needles, short holds and ramp): the same trajectory up to round-off and
 # its growth. The sums of forces are done in another order on each rank count, and contacts with
-# friction amplify those last-bit differences step by step (measured: 1e-13 m after the ~800 steps
-# of stage 2, 1e-11 m after stage 3, 1e-9 m after stage 4's ~500 more); the bound, 1e-5 chain
-# diameters (0.7 nm), is far below what a force missing on a ghost or counted twice gives over
-# these steps (of the order of the force times dt^2 per step: micrometres)
+# friction amplify those last-bit differences step by step (measured with holds of 100 steps and a
+# ramp of 400: 1e-14 m after stage 2, 1e-11 m after stage 3, 1e-9 m after stage 4, so stage 4 runs
+# 200 steps here); the bound, 1e-5 chain diameters (0.7 nm), is far below what a force missing on
+# a ghost or counted twice would give over these steps (of the order of the force times dt^2 per
+# step: micrometres)
 for np in 1 2 4; do
   mkdir -p "$out/np$np"
   cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,compact.restart} "$out/np$np/"
   NCF_NP=$np NCF_STAGES=2-4 \
-    NCF_LMP_ARGS="-var hold 100 -var release 200 -var ramp 400 -var needle_speed 200" \
+    NCF_LMP_ARGS="-var hold 50 -var release 200 -var ramp 150 -var needle_speed 200" \
     bash "$here/run.sh" "$out/np$np" "$here/small.card" > "$out/np$np/run.out"
 done
 /usr/bin/python3 - "$out" <<'PY'
