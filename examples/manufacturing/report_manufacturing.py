@@ -350,7 +350,7 @@ def report(prefix, d, plots):
             checks.append(f"nodes out of the needles {fmt_ok(nn_ok)}")
             details += [f"- stage 2: the plate pressure fell from {rows[0][pcol]:.4g} Pa (ends held in the plane, "
                         f"end of stage 1) to {printed(log, 'PIERCE_RELEASED')['pressure']:.4g} Pa with the "
-                        f"ends free in the plane, before the needles came; {len(needles)} needles of "
+                        f"ends free in the plane, before the needles came; {len(needles)} needle(s) of "
                         f"{res['needle_d'] * 1e3:.3g} mm; at the end of the stroke the nearest fibre node is "
                         f"{node_min * 1e3:.4f} mm from a needle axis (radius {rneedle * 1e3:.3f} mm, "
                         f"{fmt_ok(nn_ok)}), the nearest fibre segment {seg_min * 1e3:.4f} mm "
