@@ -23,6 +23,8 @@ import os
 import re
 import sys
 
+from report_compaction import thermo_blocks    # noqa: E402  (same folder)
+
 STAGES = ["compact", "pierce", "stitch", "pretension", "release"]
 TITLES = {"compact": "1 compaction", "pierce": "2 piercing", "stitch": "3 stitching",
           "pretension": "4 pretension", "release": "5 release"}
@@ -30,26 +32,6 @@ TITLES = {"compact": "1 compaction", "pierce": "2 piercing", "stitch": "3 stitch
 
 class ReportError(Exception):
     pass
-
-
-def thermo_blocks(path):
-    """All thermo blocks of a log as lists of dicts (one per run command)."""
-    blocks, header = [], None
-    for line in open(path):
-        w = line.split()
-        if w and w[0] == "Step":
-            header = w
-            blocks.append([])
-            continue
-        if header:
-            if len(w) != len(header):
-                header = None
-                continue
-            try:
-                blocks[-1].append({h: float(v) for h, v in zip(header, w)})
-            except ValueError:
-                header = None
-    return blocks
 
 
 def printed(path, tag):

@@ -4,7 +4,7 @@
 // whose sub-domains fix balance moves every 100 steps (the friction history migrates with the
 // atoms through the per-atom rows that fix ncf/contact/history writes before they move).
 
-#include "../integration/test_pair_contact_scene.h"
+#include "mpi_layered_mat.h"
 #include "ncf_lammps_test.h"
 
 #include <gtest/gtest.h>
@@ -16,26 +16,11 @@ using namespace contactscene;
 
 namespace {
 
-const double SIDE = 1.5e-3;
-const double DZ = 0.97 * DIAM;          // consecutive layers start slightly pressed together
-const int NLAYER = 5, PERLAYER = 10;    // 50 chains
+using mpimat::SIDE;
 
 std::string scene_data()
 {
-  static std::string path;
-  if (path.empty()) {
-    auto dir = scratch_dir("contact_ranks");
-    Box box;
-    box.lo[0] = box.lo[1] = 0.0;
-    box.hi[0] = box.hi[1] = SIDE;
-    box.lo[2] = -DIAM;
-    box.hi[2] = (NLAYER - 0.5) * DZ + 0.6 * DIAM;
-    path = dir + "/mat.data";
-    if (world_rank() == 0)
-      write_data(path, layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box, RHO_A * 1e-4);
-    MPI_Barrier(MPI_COMM_WORLD);
-  }
-  return path;
+  return mpimat::scene_data("contact_ranks");
 }
 
 const char *PRESS = R"(

@@ -5,7 +5,7 @@
 // that its own work at a cut (atoms moved to other ranks, wrapped, re-sorted at the setup) is the
 // same as in the uncut run; see tests/integration/test_split_runs.cpp for the one-rank scenes.
 
-#include "../integration/test_pair_contact_scene.h"
+#include "mpi_layered_mat.h"
 #include "ncf_lammps_test.h"
 
 #include "fmt/format.h"
@@ -20,26 +20,11 @@ using namespace contactscene;
 
 namespace {
 
-const double SIDE = 1.5e-3;
-const double DZ = 0.97 * DIAM;          // consecutive layers start slightly pressed together
-const int NLAYER = 5, PERLAYER = 10;    // 50 chains
+using mpimat::SIDE;
 
 std::string scene_data()
 {
-  static std::string path;
-  if (path.empty()) {
-    auto dir = scratch_dir("split_ranks");
-    Box box;
-    box.lo[0] = box.lo[1] = 0.0;
-    box.hi[0] = box.hi[1] = SIDE;
-    box.lo[2] = -DIAM;
-    box.hi[2] = (NLAYER - 0.5) * DZ + 0.6 * DIAM;
-    path = dir + "/mat.data";
-    if (world_rank() == 0)
-      write_data(path, layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box, RHO_A * 1e-4);
-    MPI_Barrier(MPI_COMM_WORLD);
-  }
-  return path;
+  return mpimat::scene_data("split_ranks");
 }
 
 const char *RUN = R"(
