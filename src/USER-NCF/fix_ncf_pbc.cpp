@@ -247,6 +247,15 @@ void FixNCFPBC::capture_reference()
     const double lu = domain->prd[1 - p];
     NCF::FaceMesh mesh = NCF::auto_face_mesh(fn, lu);
     if (user_cells[p][0]) {
+      // a mesh finer than 100 cells per end node only merges empty cells away, and an absurd
+      // one would exhaust the memory before saying so
+      const double cells = (double) user_cells[p][0] * user_cells[p][1];
+      if (cells > 100.0 * (double) fn.size())
+        error->all(FLERR,
+                   "fix ncf/pbc: {}cells {} {} gives {:.3g} cells for the {} end nodes on the {} "
+                   "faces; at most 100 cells per end node",
+                   p ? "y" : "x", user_cells[p][0], user_cells[p][1], cells, fn.size(),
+                   p ? "y" : "x");
       mesh = NCF::FaceMesh();
       mesh.lu = lu;
       mesh.vlo = vlo;

@@ -279,6 +279,8 @@ INSTANTIATE_TEST_SUITE_P(
                "fix ncf/pbc: no per-atom integer i_nothing"},
         BadPbc{"fix p ends ncf/pbc xcells 0 2", "fix ncf/pbc: xcells values must be >= 1, got 0"},
         BadPbc{"fix p ends ncf/pbc xcells 4", "fix ncf/pbc: keyword 'xcells' needs 2 value(s)"},
+        BadPbc{"fix p ends ncf/pbc xcells 100000 100000",
+               "fix ncf/pbc: xcells 100000 100000 gives 1e+10 cells for the"},
         BadPbc{"fix p ends ncf/pbc stiffness 3", "fix ncf/pbc: unknown keyword 'stiffness'"},
         BadPbc{"fix p ends ncf/pbc faces y",
                "fix ncf/pbc: no end node of group ends lies on the y faces"},
