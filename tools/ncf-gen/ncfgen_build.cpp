@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -111,6 +112,10 @@ namespace {
 
 }    // namespace
 
+// the most fibre nodes a card may ask for (about 1 GB of LAMMPS data; 200 times the paper's
+// comparison RVEs)
+constexpr double MAX_NODES = 2e7;
+
 Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
 {
   Fabric f;
@@ -136,8 +141,27 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
                      ": key 'fibre_mesh': value " + std::to_string(card.fibre_mesh) +
                      " m is shorter than the chain diameter " +
                      std::to_string(card.chain_diameter) + " m");
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return std::string(buf);
+  };
+  // an RVE side shorter than two elements has no room for a chain; a course shorter than that is
+  // a stitch length typed in the wrong unit
+  if (lx < 2.0 * card.fibre_mesh)
+    throw InputError(at(card.path, line_of("stitch_length", "pattern")) +
+                     ": key 'stitch_length': value " + num(card.stitch_length) +
+                     " m gives an RVE " + num(lx) +
+                     " m long, shorter than two fibre elements (fibre_mesh " +
+                     num(card.fibre_mesh) + " m)");
+  if (ly < 2.0 * card.fibre_mesh)
+    throw InputError(at(card.path, line_of("gauge", "rve")) + ": key 'gauge': value " +
+                     num(card.gauge) + " gives an RVE " + num(ly) +
+                     " m wide, shorter than two fibre elements (fibre_mesh " +
+                     num(card.fibre_mesh) + " m)");
   double base = 0.0;    // bottom surface of the next layer
   int chain_id = 0;
+  double nodes_estimate = 0.0;    // fibre nodes, summed over the layers before each is built
   const double dc = card.chain_diameter, rc = 0.5 * dc;
   for (std::size_t li = 0; li < card.layers.size(); li++) {
     const LayerSpec &spec = card.layers[li];
@@ -156,6 +180,16 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
     info.filament_density = mat->density;
     info.t_l = spec.areal_weight / (card.v_l * mat->density);    // Eq. 1
     info.chains_per_width_target = spec.areal_weight / info.chain.mass_per_length;
+    // chain length per RVE area is A / m'; refuse what no machine here could hold before
+    // allocating it (the paper's comparison RVEs have about 1e5 nodes)
+    nodes_estimate += info.chains_per_width_target * lx * ly / card.fibre_mesh;
+    if (nodes_estimate > MAX_NODES)
+      throw InputError(at(card.path, line_of("rve", "stitch_length")) +
+                       ": the card asks for about " + std::to_string((long long) nodes_estimate) +
+                       " fibre nodes (RVE " + num(lx) + " x " + num(ly) + " m, fibre_mesh " +
+                       num(card.fibre_mesh) +
+                       " m), more than the limit of " + std::to_string((long long) MAX_NODES) +
+                       ": check the keys 'rve', 'stitch_length', 'gauge' and 'fibre_mesh'");
 
     // main axis: the face pair the chains cross once
     double theta = std::fmod(spec.angle, 180.0);    // fibres are lines: angle mod 180
