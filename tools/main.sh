@@ -14,6 +14,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out=$(mkdir -p "${1:-$root/out}" && cd "${1:-$root/out}" && pwd)
 export NCF_BUILD=${NCF_BUILD:-$root/build}
 bash "$root/tools/setup.sh"
+source "$NCF_BUILD/ncf-env.sh"
 
 echo "[ncf-main] the paper's fabrics generated -> $out/fabrics"
 bash "$root/examples/gen-ncf090/run.sh" "$out/fabrics" > /dev/null
