@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -58,18 +59,39 @@ struct Drawn {
   int xmin = 1 << 30, xmax = -1, ymin = 1 << 30, ymax = -1;
 };
 
+// the next number of a PPM header, skipping white space and comments (LAMMPS 4 Jul 2026 writes a
+// "# CREATOR" line, 4 Feb 2025 none); -1 if there is none
+int ppm_header_number(FILE *fp)
+{
+  int c = fgetc(fp);
+  while (c == '#' || std::isspace(c)) {
+    if (c == '#')
+      while (c != '\n' && c != EOF) c = fgetc(fp);
+    c = fgetc(fp);
+  }
+  if (!std::isdigit(c)) return -1;
+  int v = 0;
+  while (std::isdigit(c)) {
+    v = 10 * v + (c - '0');
+    c = fgetc(fp);
+  }
+  return v;    // the one white-space character after the number is consumed
+}
+
 Drawn read_ppm(const std::string &path)
 {
   Drawn d;
   FILE *fp = fopen(path.c_str(), "rb");
   if (!fp) return d;
-  int maxval = 0;
-  if (fscanf(fp, "P6 %d %d %d", &d.width, &d.height, &maxval) != 3 || maxval != 255) {
+  const bool p6 = fgetc(fp) == 'P' && fgetc(fp) == '6';
+  d.width = p6 ? ppm_header_number(fp) : -1;
+  d.height = p6 ? ppm_header_number(fp) : -1;
+  const int maxval = p6 ? ppm_header_number(fp) : -1;
+  if (d.width <= 0 || d.height <= 0 || maxval != 255) {
     fclose(fp);
     d.width = d.height = 0;
     return d;
   }
-  fgetc(fp);    // the one white-space character after the header
   std::vector<unsigned char> px(3 * (size_t) d.width * d.height);
   const size_t got = fread(px.data(), 1, px.size(), fp);
   fclose(fp);
