@@ -144,7 +144,7 @@ lmp_prefix="$cache/lammps-$lmp_version-$key"
 if [ -f "$lmp_prefix/.ncf-complete" ]; then
   say "reusing cached LAMMPS $lmp_version build: $lmp_prefix"
 else
-  say "building LAMMPS $lmp_version into $lmp_prefix (about 4-5 minutes on 2 cores)"
+  say "building LAMMPS $lmp_version into $lmp_prefix (about 5 minutes on 2 free cores for 4 Feb 2025, a little more for later versions)"
   rm -rf "$lmp_prefix"
   mkdir -p "$lmp_prefix"
   printf '%s\n' "$key_text" >"$lmp_prefix/config.txt"
