@@ -12,7 +12,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 out=$(mkdir -p "${1:-$root/out}" && cd "${1:-$root/out}" && pwd)
-export NCF_BUILD=${NCF_BUILD:-$root/build}
+source "$root/tools/ncf-lammps.sh"    # NCF_LAMMPS=2026: against LAMMPS 4 Jul 2026
+export NCF_BUILD=${NCF_BUILD:-$root/$ncf_default_build}
 bash "$root/tools/setup.sh"
 source "$NCF_BUILD/ncf-env.sh"
 

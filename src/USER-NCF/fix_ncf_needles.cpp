@@ -22,6 +22,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "ncf_lammps_compat.h"
 #include "ncf_motion_lammps.h"
 #include "ncf_needle.h"
 
@@ -243,7 +244,7 @@ void FixNCFNeedles::post_force(int /*vflag*/)
       for (int k = 0; k < nn; k++) {
         // the needle's closest image to the segment's midpoint
         double d[3] = {0.5 * (a0.x + a1.x) - nx[k], 0.5 * (a0.y + a1.y) - ny[k], 0.0};
-        domain->minimum_image(d[0], d[1], d[2]);
+        NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);
         if (d[0] * d[0] + d[1] * d[1] > (half + radius + rc) * (half + radius + rc)) continue;
         needle.x = 0.5 * (a0.x + a1.x) - d[0];
         needle.y = 0.5 * (a0.y + a1.y) - d[1];
@@ -348,7 +349,7 @@ void FixNCFNeedles::restart(char *raw)
 int FixNCFNeedles::image(int *&ivec, double **&darray)
 {
   const int nn = (int) nx.size();
-  imgtype.assign(nn, 1);    // LINE in dump image
+  imgtype.assign(nn, NCF_COMPAT::ImageShape::LINE);
   imgbuf.assign(7 * nn, 0.0);
   imgrows.resize(nn);
   for (int k = 0; k < nn; k++) {

@@ -429,7 +429,7 @@ int FixNCFPlate::image(int *&ivec, double **&darray)
         {lo[0], lo[1], z}, {hi[0], lo[1], z}, {hi[0], hi[1], z}, {lo[0], hi[1], z}};
     const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
     for (auto &t : tri) {
-      imgtype.push_back(2);    // TRI in dump image
+      imgtype.push_back(NCF_COMPAT::ImageShape::TRI);
       imgbuf.push_back(k + 1);
       for (int q : t) imgbuf.insert(imgbuf.end(), c[q], c[q] + 3);
     }
