@@ -9,7 +9,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
-source "$root/build/ncf-env.sh"
+source "${NCF_BUILD:-$root/build}/ncf-env.sh"
 levels=("$@")
 [ ${#levels[@]} -gt 0 ] || levels=(1e4 3e3 1e3 3e2)
 work=$(mktemp -d /tmp/ncf-bench-compaction.XXXXXX)

@@ -8,7 +8,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
-source "$root/build/ncf-env.sh"
+source "${NCF_BUILD:-$root/build}/ncf-env.sh"
 steps=${1:-100}
 work=$(mktemp -d /tmp/ncf-bench.XXXXXX)
 [ -n "${NCF_BENCH_KEEP:-}" ] || trap 'rm -rf "$work"' EXIT    # NCF_BENCH_KEEP=1 keeps the logs

@@ -2,7 +2,7 @@
 # runs the pair ncf/contact examples in full; logs: log.crossed, log.mat (kept in the repository)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-source "$here/../../build/ncf-env.sh"
+source "${NCF_BUILD:-$here/../../build}/ncf-env.sh"
 cd "$here"
 lmp -in in.crossed -log log.crossed -screen none
 lmp -in in.mat -log log.mat -screen none
