@@ -112,6 +112,17 @@ Drawn read_ppm(const std::string &path)
   return d;
 }
 
+// one picture of the tools only (group nothing) at step 0, as the image file `name`.0.ppm
+Drawn draw_once(Lammps &l, const std::string &dir, const std::string &name, const std::string &view,
+                const std::string &fix, const std::string &colour)
+{
+  l.cmd(fmt::format("dump img nothing image 1 {}/{}.*.ppm type type {} size 200 200 box no 0 {}",
+                    dir, name, view, fix));
+  l.cmd("dump_modify img acolor * " + colour + " backcolor black");
+  l.cmd("run 0");
+  return read_ppm(dir + "/" + name + ".0.ppm");
+}
+
 }    // namespace
 
 TEST(DumpImage, PlateIsDrawnAsAFilledRectangle)
@@ -121,12 +132,7 @@ TEST(DumpImage, PlateIsDrawnAsAFilledRectangle)
   Lammps l;
   load(l, write_line(dir, 4, 2e-4, 3e-4));
   l.cmd("fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.0 upper target 1e-3 1e-3 1.0");
-  l.cmd(fmt::format("dump img nothing image 1 {}/plate.*.ppm type type view 0 0 up 0 1 0 zoom 1.5 "
-                    "size 200 200 box no 0 fix plate type 1 0",
-                    dir));
-  l.cmd("dump_modify img acolor * red backcolor black");
-  l.cmd("run 0");
-  const Drawn d = read_ppm(dir + "/plate.0.ppm");
+  const Drawn d = draw_once(l, dir, "plate", "view 0 0 up 0 1 0 zoom 1.5", "fix plate type 1 0", "red");
   ASSERT_EQ(d.width, 200) << "no readable plate.0.ppm";
   // the plate covers the box's 1 mm x 1 mm (about 50 x 50 pixels at this zoom, the view being
   // scaled to the box's 3 mm height): a filled square, not the outline or cylinders of other codes
@@ -147,12 +153,7 @@ TEST(DumpImage, NeedleIsDrawnAsALongCylinder)
   load(l, write_line(dir, 4, 2e-4, 0.0));
   l.cmd("fix nd all ncf/needles diameter 0.5e-3 kn 1e8 chain 1 69e-6 at 5e-4 9e-4 move -5e-4 0 "
         "length 1.5e-3");
-  l.cmd(fmt::format("dump img nothing image 1 {}/needle.*.ppm type type view 90 0 zoom 1.5 "
-                    "size 200 200 box no 0 fix nd type 1e-4 0",
-                    dir));
-  l.cmd("dump_modify img acolor * green backcolor black");
-  l.cmd("run 0");
-  const Drawn d = read_ppm(dir + "/needle.0.ppm");
+  const Drawn d = draw_once(l, dir, "needle", "view 90 0 zoom 1.5", "fix nd type 1e-4 0", "green");
   ASSERT_EQ(d.width, 200) << "no readable needle.0.ppm";
   ASSERT_GT(d.count, 0) << "nothing drawn";
   const double tall = (d.ymax - d.ymin + 1.0) / (d.xmax - d.xmin + 1.0);

@@ -55,6 +55,16 @@ std::vector<Pair> random_pairs(int n, unsigned seed)
   return out;
 }
 
+// the batch's lanes from the pairs from `start` on (as many as fit)
+void fill_batch(ContactBatch &b, const std::vector<Pair> &pairs, size_t start)
+{
+  b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
+  for (int l = 0; l < b.n; l++) {
+    const Pair &p = pairs[start + l];
+    b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
+  }
+}
+
 double scale_of(const NCF::SegmentContact &c)
 {
   double s = 0.0;
@@ -73,11 +83,7 @@ TEST(ContactBatch, EqualsTheScalarLawLaneByLane)
     int fast = 0, fast_active = 0, left = 0, left_active = 0;
     ContactBatch b;
     for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
-      b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
-      for (int l = 0; l < b.n; l++) {
-        const Pair &p = pairs[start + l];
-        b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
-      }
+      fill_batch(b, pairs, start);
       NCF::segment_contact_batch(b, core);
       for (int l = 0; l < b.n; l++) {
         const Pair &p = pairs[start + l];
@@ -130,11 +136,7 @@ TEST(TangentialBatch, EqualsContactTangentialBitwise)
   ContactBatch b;
   NCF::TangentialBatch t;
   for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
-    b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
-    for (int l = 0; l < b.n; l++) {
-      const Pair &p = pairs[start + l];
-      b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
-    }
+    fill_batch(b, pairs, start);
     NCF::segment_contact_batch(b, NCF::DEFAULT_CORE);
     Vec3 slip[NCF::CONTACT_BATCH], vel[NCF::CONTACT_BATCH][4];
     for (int l = 0; l < b.n; l++) {
@@ -203,11 +205,7 @@ TEST(TangentialBatch, SetupGivesTheForceOfTheStepBefore)
   ContactBatch b;
   NCF::TangentialBatch t;
   for (size_t start = 0; start < pairs.size(); start += NCF::CONTACT_BATCH) {
-    b.n = (int) std::min<size_t>(NCF::CONTACT_BATCH, pairs.size() - start);
-    for (int l = 0; l < b.n; l++) {
-      const Pair &p = pairs[start + l];
-      b.set(l, p.a0, p.a1, p.b0, p.b1, D, KN, RAMP);
-    }
+    fill_batch(b, pairs, start);
     NCF::segment_contact_batch(b, NCF::DEFAULT_CORE);
     for (int l = 0; l < b.n; l++) {
       const double speed = (start / NCF::CONTACT_BATCH) % 2 ? 10.0 : 0.01;
