@@ -22,7 +22,8 @@
 #   NCF_LMP_ARGS extra LAMMPS arguments for every stage, e.g. "-var tau 1000"
 #   NCF_ARGS_<stage>  extra LAMMPS arguments for one stage, e.g. NCF_ARGS_pierce="-var hold 500";
 #                they come first, so they win over NCF_LMP_ARGS (LAMMPS keeps the first -var)
-set -euo pipefail
+set -eEuo pipefail
+trap 'echo "[manufacturing] run.sh: stopped by a failing command (status $?), line $LINENO: $BASH_COMMAND"' ERR
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(mkdir -p "${1:-$here/out}" && cd "${1:-$here/out}" && pwd)
 shift || true
@@ -43,6 +44,8 @@ run_lmp() { if [ "$np" -gt 1 ]; then mpirun -np "$np" --oversubscribe lmp "$@"; 
 # progress of a running stage from its log: the stage prints "STAGE_PLAN first F steps N"
 # before its runs, thermo lines carry the step
 progress() {
+  # (the log appears only once LAMMPS has started: several seconds with many ranks on a busy machine)
+  [ -r "$1" ] || { printf 'starting, %d s elapsed' "$2"; return 0; }
   awk -v t="$2" '
     $1 == "STAGE_PLAN" { f = $3; n = $5 }
     $1 ~ /^[0-9]+$/ && NF > 4 { s = $1 }
