@@ -47,7 +47,7 @@ void PairNCFContact::compute(int eflag, int vflag)
   // per-atom energy or virial requested, or the global virial without f dot r (pair_modify
   // nofdotr): every contact tallied (tally_contact); otherwise nothing of it runs and the forces
   // are the same bits either way
-  const bool tally = eflag_atom || vflag_atom || vflag_global;
+  const bool tally = eflag_atom || vflag_atom || cvflag_atom || vflag_global;
 
   // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
   // exchanged or sorted) and after every init
@@ -652,7 +652,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     return f[k];
   });
   // (the virial of that mapping: the contacts were tallied at the extended ends)
-  if (vflag_atom || vflag_global)
+  if (vflag_atom || cvflag_atom || vflag_global)
     for (int vn = 0; vn < nvirt; vn++)
       tally_virtual_end(vreal[vn], vnbr[vn], EX[vreal[vn]], &vgeom[4 * (size_t) vn],
                         FV + 3 * (size_t) vn);
@@ -698,7 +698,9 @@ void PairNCFContact::compute(int eflag, int vflag)
    positions the law saw (for a virtual node the extended end), node: the atom indices (local or
    ghost; LAMMPS's computes sum the ghosts' shares back with newton pair on). Components in
    LAMMPS's order xx, yy, zz, xy, xz, yz with xy = sum dx fy (the friction couple makes W
-   slightly asymmetric; LAMMPS keeps this half, as fdotr does).
+   asymmetric, by the order of mu; LAMMPS keeps this half, as fdotr does). The centroid form
+   (compute centroid/stress/atom, all nine components) gives each node its own
+   (x_m - x_c) (x) f_m, x_c the mean of the contact's node positions (as Dihedral::ev_tally).
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::tally_contact(int n, const int *node, const double *const *xm,
@@ -707,6 +709,26 @@ void PairNCFContact::tally_contact(int n, const int *node, const double *const *
   if (eflag_atom) {
     const double share = energy / n;
     for (int m = 0; m < n; m++) eatom[node[m]] += share;
+  }
+  if (cvflag_atom) {
+    double xc[3] = {0.0, 0.0, 0.0};
+    for (int m = 0; m < n; m++)
+      for (int d = 0; d < 3; d++) xc[d] += xm[m][d];
+    for (int d = 0; d < 3; d++) xc[d] /= n;
+    for (int m = 0; m < n; m++) {
+      const double a[3] = {xm[m][0] - xc[0], xm[m][1] - xc[1], xm[m][2] - xc[2]};
+      const double *f = fm + 3 * m;
+      double *cv = cvatom[node[m]];
+      cv[0] += a[0] * f[0];
+      cv[1] += a[1] * f[1];
+      cv[2] += a[2] * f[2];
+      cv[3] += a[0] * f[1];
+      cv[4] += a[0] * f[2];
+      cv[5] += a[1] * f[2];
+      cv[6] += a[1] * f[0];
+      cv[7] += a[2] * f[0];
+      cv[8] += a[2] * f[1];
+    }
   }
   if (!(vflag_atom || vflag_global)) return;
   double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
@@ -733,7 +755,8 @@ void PairNCFContact::tally_contact(int n, const int *node, const double *const *
    The virial of mapping the force fv on the virtual node of a free end k (at x_k + e u, u the
    unit vector from its neighbour j to k) onto k and j: the contacts were tallied at the extended
    end, the forces act at x_k and x_j, and x_k (x) (fv + g) - x_j (x) g - (x_k + e u) (x) fv =
-   -e (u . fv) u (x) u (g = (e / l)(fv - u (u . fv))); split equally over k and j. u: vgeom row.
+   -e (u . fv) u (x) u (g = (e / l)(fv - u (u . fv))); split equally over k and j (per-atom and
+   centroid form alike: it is symmetric). u: vgeom row.
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::tally_virtual_end(int k, int j, double e, const double *u, const double *fv)
@@ -748,6 +771,14 @@ void PairNCFContact::tally_virtual_end(int k, int j, double e, const double *u, 
       vatom[k][m] += 0.5 * v[m];
       vatom[j][m] += 0.5 * v[m];
     }
+  if (cvflag_atom) {
+    // (xx yy zz xy xz yz, then yx zx zy: the same as xy xz yz)
+    const int from[9] = {0, 1, 2, 3, 4, 5, 3, 4, 5};
+    for (int m = 0; m < 9; m++) {
+      cvatom[k][m] += 0.5 * v[from[m]];
+      cvatom[j][m] += 0.5 * v[from[m]];
+    }
+  }
 }
 
 int PairNCFContact::pack_reverse_comm(int n, int first, double *buf)
