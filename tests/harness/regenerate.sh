@@ -13,6 +13,7 @@ mkdir -p "$work"
 files=("$@")
 [ ${#files[@]} -gt 0 ] || files=("$here"/*.yaml)
 for yaml in "${files[@]}"; do
+  yaml=$(cd "$(dirname "$yaml")" && pwd)/$(basename "$yaml")
   name=$(basename "$yaml" .yaml)
   kind=${name%%-*}
   exe=$build/tests/harness/ncf_test_${kind}_style
