@@ -56,6 +56,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
 {
   restartinfo = 1;
   single_enable = 0;
+  centroidstressflag = CENTROID_AVAIL;    // (tally_contact)
   one_coeff = 0;
   manybody_flag = 0;
   ramp_frac = 0.25;

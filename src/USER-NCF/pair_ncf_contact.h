@@ -198,6 +198,11 @@ class PairNCFContact : public Pair {
   bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
                     bool local_only) const;
   void other_partner(tagint node, tagint not_this, tagint &out) const;
+  // per-atom energy and virial (and the global virial without fdotr) of one contact and of the
+  // mapping of a virtual node's force onto its free end and neighbour (pair_ncf_contact_compute)
+  void tally_contact(int n, const int *node, const double *const *xm, const double *fm,
+                     double energy);
+  void tally_virtual_end(int k, int j, double e, const double *u, const double *fv);
 };
 
 }    // namespace LAMMPS_NS

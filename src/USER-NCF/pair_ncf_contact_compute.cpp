@@ -44,6 +44,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   // step's), and each contact's friction force is that of its stored slip, the force the step
   // that stored it gave. So `run 0` changes nothing, and a run cut into pieces is the same run.
   const bool advance = !update->setupflag;
+  // per-atom energy or virial requested, or the global virial without f dot r (pair_modify
+  // nofdotr): every contact tallied (tally_contact); otherwise nothing of it runs and the forces
+  // are the same bits either way
+  const bool tally = eflag_atom || vflag_atom || cvflag_atom || vflag_global;
 
   // the lists hold atom indices: rebuilt whenever LAMMPS has reneighboured (new ghosts, atoms
   // exchanged or sorted) and after every init
@@ -285,6 +289,17 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
     }
     if (eflag_global) eng_vdwl += energy;
+    if (tally) {
+      double fm[12];
+      const double *xm[4];
+      int rn[4];
+      for (int m = 0; m < 4; m++) {
+        for (int d = 0; d < 3; d++) fm[3 * m + d] = fs(m, d);
+        xm[m] = xof(nodes[m]);
+        rn[m] = real_of(nodes[m]);
+      }
+      tally_contact(4, rn, xm, fm, energy);
+    }
     ncontact += 1.0;
     pensum += pen;
     penmax = MAX(penmax, pen);
@@ -430,6 +445,17 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (fc)
         for (int m = 0; m < 4; m++)
           for (int d = 0; d < 3; d++) fc[3 * nodes[m] + d] += batch.f[3 * m + d][l];
+      if (tally) {
+        double fm[12];
+        const double *xm[4];
+        int rn[4];
+        for (int m = 0; m < 4; m++) {
+          for (int d = 0; d < 3; d++) fm[3 * m + d] = batch.f[3 * m + d][l];
+          xm[m] = xof(nodes[m]);
+          rn[m] = real_of(nodes[m]);
+        }
+        tally_contact(4, rn, xm, fm, batch.energy[l] + espring);
+      }
       // (the energy and penetration sums only where they are output)
       if (eng) {
         ev += batch.energy[l] + espring;
@@ -587,6 +613,17 @@ void PairNCFContact::compute(int eflag, int vflag)
         }
       }
       if (eflag_global) eng_vdwl += c.energy;
+      if (tally) {
+        double fm[15];
+        const double *xm[5];
+        for (int m = 0; m < 5; m++) {
+          fm[3 * m] = c.f[m].x;
+          fm[3 * m + 1] = c.f[m].y;
+          fm[3 * m + 2] = c.f[m].z;
+          xm[m] = xof(ids[m]);
+        }
+        tally_contact(5, ids, xm, fm, c.energy);
+      }
       ncap += 1.0;
       penmax = MAX(penmax, c.penetration);
     }
@@ -614,6 +651,11 @@ void PairNCFContact::compute(int eflag, int vflag)
   map_virtual(FV, [f](int k) {
     return f[k];
   });
+  // (the virial of that mapping: the contacts were tallied at the extended ends)
+  if (vflag_atom || cvflag_atom || vflag_global)
+    for (int vn = 0; vn < nvirt; vn++)
+      tally_virtual_end(vreal[vn], vnbr[vn], EX[vreal[vn]], &vgeom[4 * (size_t) vn],
+                        FV + 3 * (size_t) vn);
   if (fatom_flag)
     map_virtual(fcon.data() + 3 * (size_t) nall, [this](int k) {
       return fcon.data() + 3 * (size_t) k;
@@ -646,6 +688,97 @@ void PairNCFContact::compute(int eflag, int vflag)
   }
 
   if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ----------------------------------------------------------------------
+   Per-atom energy and virial of one contact (segment pair: n = 4 nodes, node cap: n = 5), and
+   its share of the global virial when f dot r is not used (pair_modify nofdotr). The contact's
+   energy and its virial W = sum_m (x_m - x_0) (x) f_m (= sum_m x_m (x) f_m: the forces of a
+   contact balance) are split equally over its nodes, as ev_tally4 does for a dihedral. xm: the
+   positions the law saw (for a virtual node the extended end), node: the atom indices (local or
+   ghost; LAMMPS's computes sum the ghosts' shares back with newton pair on). Components in
+   LAMMPS's order xx, yy, zz, xy, xz, yz with xy = sum dx fy (the friction couple makes W
+   asymmetric, by the order of mu; LAMMPS keeps this half, as fdotr does). The centroid form
+   (compute centroid/stress/atom, all nine components) gives each node its own
+   (x_m - x_c) (x) f_m, x_c the mean of the contact's node positions (as Dihedral::ev_tally).
+------------------------------------------------------------------------- */
+
+void PairNCFContact::tally_contact(int n, const int *node, const double *const *xm,
+                                   const double *fm, double energy)
+{
+  if (eflag_atom) {
+    const double share = energy / n;
+    for (int m = 0; m < n; m++) eatom[node[m]] += share;
+  }
+  if (cvflag_atom) {
+    double xc[3] = {0.0, 0.0, 0.0};
+    for (int m = 0; m < n; m++)
+      for (int d = 0; d < 3; d++) xc[d] += xm[m][d];
+    for (int d = 0; d < 3; d++) xc[d] /= n;
+    for (int m = 0; m < n; m++) {
+      const double a[3] = {xm[m][0] - xc[0], xm[m][1] - xc[1], xm[m][2] - xc[2]};
+      const double *f = fm + 3 * m;
+      double *cv = cvatom[node[m]];
+      cv[0] += a[0] * f[0];
+      cv[1] += a[1] * f[1];
+      cv[2] += a[2] * f[2];
+      cv[3] += a[0] * f[1];
+      cv[4] += a[0] * f[2];
+      cv[5] += a[1] * f[2];
+      cv[6] += a[1] * f[0];
+      cv[7] += a[2] * f[0];
+      cv[8] += a[2] * f[1];
+    }
+  }
+  if (!(vflag_atom || vflag_global)) return;
+  double v[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int m = 1; m < n; m++) {
+    const double dx = xm[m][0] - xm[0][0], dy = xm[m][1] - xm[0][1], dz = xm[m][2] - xm[0][2];
+    const double *f = fm + 3 * m;
+    v[0] += dx * f[0];
+    v[1] += dy * f[1];
+    v[2] += dz * f[2];
+    v[3] += dx * f[1];
+    v[4] += dx * f[2];
+    v[5] += dy * f[2];
+  }
+  if (vflag_global)
+    for (int c = 0; c < 6; c++) virial[c] += v[c];
+  if (vflag_atom) {
+    const double s = 1.0 / n;
+    for (int m = 0; m < n; m++)
+      for (int c = 0; c < 6; c++) vatom[node[m]][c] += s * v[c];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   The virial of mapping the force fv on the virtual node of a free end k (at x_k + e u, u the
+   unit vector from its neighbour j to k) onto k and j: the contacts were tallied at the extended
+   end, the forces act at x_k and x_j, and x_k (x) (fv + g) - x_j (x) g - (x_k + e u) (x) fv =
+   -e (u . fv) u (x) u (g = (e / l)(fv - u (u . fv))); split equally over k and j (per-atom and
+   centroid form alike: it is symmetric). u: vgeom row.
+------------------------------------------------------------------------- */
+
+void PairNCFContact::tally_virtual_end(int k, int j, double e, const double *u, const double *fv)
+{
+  const double c = -e * (u[0] * fv[0] + u[1] * fv[1] + u[2] * fv[2]);
+  const double v[6] = {c * u[0] * u[0], c * u[1] * u[1], c * u[2] * u[2],
+                       c * u[0] * u[1], c * u[0] * u[2], c * u[1] * u[2]};
+  if (vflag_global)
+    for (int m = 0; m < 6; m++) virial[m] += v[m];
+  if (vflag_atom)
+    for (int m = 0; m < 6; m++) {
+      vatom[k][m] += 0.5 * v[m];
+      vatom[j][m] += 0.5 * v[m];
+    }
+  if (cvflag_atom) {
+    // (xx yy zz xy xz yz, then yx zx zy: the same as xy xz yz)
+    const int from[9] = {0, 1, 2, 3, 4, 5, 3, 4, 5};
+    for (int m = 0; m < 9; m++) {
+      cvatom[k][m] += 0.5 * v[from[m]];
+      cvatom[j][m] += 0.5 * v[from[m]];
+    }
+  }
 }
 
 int PairNCFContact::pack_reverse_comm(int n, int first, double *buf)

@@ -312,6 +312,79 @@ TEST(BondChain, ReferenceLengthsSurviveWriteDataReadData)
   EXPECT_EQ(sa.str(), sb.str());
 }
 
+// LAMMPS's force-style harness writes its data files with `nofix` (tests/harness): fix sections,
+// NCF_CHAIN_L0 among them, are left out, so a bond read from such a file has no reference length
+// and takes its current one at the next run (no force). The harness scene therefore sets L0
+// after read_data (tests/harness/in.ncf-chain).
+TEST(BondChain, NofixDataFileLosesTheReferenceLengths)
+{
+  auto dir = scratch_dir("bond_data_nofix");
+  auto data = write_chain_data(dir, 5, 2.3e-4, 2.0e-4, 1e-9);
+  {
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    l.cmd("bond_coeff 1 ea 10.0");
+    l.cmd("run 0");
+    EXPECT_GT(l.value("ebond"), 0.0);
+    l.cmd("write_data " + dir + "/nofix.data nofix");
+  }
+  Lammps r(MPI_COMM_WORLD, dir + "/log.lammps");
+  r.cmds(SETUP);
+  r.cmd("read_data " + dir + "/nofix.data fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  EXPECT_TRUE(r.reference_lengths().empty());
+  r.cmd("run 0");
+  EXPECT_EQ(r.value("ebond"), 0.0);
+  for (auto &kv : r.reference_lengths()) EXPECT_NEAR(kv.second, 2.3e-4, 1e-18);
+  std::ifstream in(dir + "/log.lammps");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("taken from the current geometry for 4 bond(s)"));
+}
+
+// single(), which compute bond/local uses, gives the force and energy of the force loop for
+// per-bond reference lengths (two separate bonds of different L0, stretched and compressed)
+TEST(BondChain, SingleMatchesTheForceLoop)
+{
+  auto dir = scratch_dir("bond_single");
+  const std::string path = dir + "/two.data";
+  FILE *fp = fopen(path.c_str(), "w");
+  fprintf(fp, "two bonds\n\n4 atoms\n1 atom types\n2 bonds\n2 bond types\n\n");
+  fprintf(fp, "-1e-3 1e-3 xlo xhi\n-1e-3 1e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\n");
+  fprintf(fp, "Masses\n\n1 1e-9\n\nAtoms # bond\n\n");
+  fprintf(fp, "1 1 1 0 0 0\n2 1 1 1.7e-4 0.6e-4 -0.3e-4\n");
+  fprintf(fp, "3 2 1 0 3e-4 0\n4 2 1 -1.1e-4 3.2e-4 0.4e-4\n");
+  fprintf(fp, "\nBonds\n\n1 1 1 2\n2 2 3 4\n");
+  fprintf(fp,
+          "\nNCF_CHAIN_L0\n\n1 1 0 1.7e-4 0\n2 -1 0 1.7e-4 0\n3 1 0 1.3e-4 0\n4 -1 0 1.3e-4 0\n");
+  fclose(fp);
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + path + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+  l.cmd("bond_coeff 1 ea 10.0 compression 0.5");
+  l.cmd("bond_coeff 2 ea 20.0 shrink 0.01");
+  l.cmd("run 0");
+  auto *atom = l.lmp->atom;
+  auto *bond = l.lmp->force->bond;
+  double esum = 0.0;
+  for (int b = 0; b < 2; b++) {
+    const int i = atom->map(1 + 2 * b), j = atom->map(2 + 2 * b);
+    double del[3], rsq = 0.0;
+    for (int d = 0; d < 3; d++) {
+      del[d] = atom->x[i][d] - atom->x[j][d];
+      rsq += del[d] * del[d];
+    }
+    double fforce = 0.0;
+    esum += bond->single(b + 1, rsq, i, j, fforce);
+    EXPECT_NE(fforce, 0.0);
+    for (int d = 0; d < 3; d++) {
+      EXPECT_NEAR(atom->f[i][d], fforce * del[d], 1e-12 * std::fabs(fforce * 1e-4)) << b << d;
+      EXPECT_NEAR(atom->f[j][d], -fforce * del[d], 1e-12 * std::fabs(fforce * 1e-4)) << b << d;
+    }
+  }
+  EXPECT_NEAR(esum, l.value("ebond"), 1e-12 * std::fabs(esum));
+}
+
 TEST(BondChain, AppendedDataKeepsItsReferenceLengths)
 {
   // read_data ... add append shifts the tags of the second file: relative tags keep L0 attached
