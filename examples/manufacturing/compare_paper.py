@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The measured defects of the as-manufactured fabrics beside the paper's Tables 2 and 4.
 
-Usage: compare_paper.py [--ncf090 CSV] [--ncf45 CSV]
-CSV: the ncf-measure summary (ncf-measure-summary.csv) of the fabric's release data file. Prints a
+Usage: compare_paper.py [--ncf090 CSV [CSV ...]] [--ncf45 CSV [CSV ...]]
+CSV: the ncf-measure summary (ncf-measure-summary.csv) of the fabric's release data file; several
+(e.g. one per seed) are pooled: the mean and SD of all their measurements together. Prints a
 Markdown table: experiment (Table 2) | paper's simulation (Table 4) | ours (mean ± SD, n).
 """
 import argparse
@@ -36,29 +37,46 @@ def read(path):
     return rows
 
 
+def pool(rows):
+    """(n, mean, SD or None) of the measurements of several summary rows taken together"""
+    parts = []
+    for r in rows:
+        n = int(float(r["n"])) if r["n"] else 0
+        if n == 0:
+            continue
+        sd = r["sd"]
+        sd = None if sd in ("", "nan") or math.isnan(float(sd)) else float(sd)
+        parts.append((n, float(r["mean"]), sd))
+    if not parts:
+        return 0, None, None
+    n = sum(p[0] for p in parts)
+    mean = sum(p[0] * p[1] for p in parts) / n
+    if any(p[2] is None for p in parts) or n < 2:
+        return n, mean, (parts[0][2] if len(parts) == 1 else None)
+    ss = sum((p[0] - 1) * p[2] ** 2 + p[0] * (p[1] - mean) ** 2 for p in parts)
+    return n, mean, math.sqrt(ss / (n - 1))
+
+
 def pm(m, s):
     return f"{m:g}" if s is None else f"{m:g} ± {s:g}"
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--ncf090")
-    ap.add_argument("--ncf45")
+    ap.add_argument("--ncf090", nargs="+")
+    ap.add_argument("--ncf45", nargs="+")
     a = ap.parse_args()
-    data = {k: read(v) for k, v in (("ncf090", a.ncf090), ("ncf45", a.ncf45)) if v}
+    data = {k: [read(p) for p in v] for k, v in (("ncf090", a.ncf090), ("ncf45", a.ncf45)) if v}
     print("| fabric | metric | experiment (Table 2) | paper's simulation (Table 4) | ours: mean ± SD (n) |")
     print("|---|---|---|---|---|")
     for fab, ang, metric, label, em, es, sm, ss, unit in PAPER:
         if fab not in data:
             continue
-        r = data[fab].get((ang, metric))
-        if r is None or not r["n"] or int(float(r["n"])) == 0:
+        n, m, s = pool([d[(ang, metric)] for d in data[fab] if (ang, metric) in d])
+        if n == 0:
             ours = "not measured (none found)"
         else:
-            m = float(r["mean"])
-            s = r["sd"]
-            s = None if s in ("", "nan") or math.isnan(float(s)) else float(s)
-            ours = f"{pm(round(m, 3), None if s is None else round(s, 3))} ({int(float(r['n']))})"
+            ours = f"{pm(round(m, 3), None if s is None else round(s, 3))} ({n})"
         print(f"| {'0°/90°' if fab == 'ncf090' else '±45°'} | {label} | {pm(em, es)} {unit} | "
               f"{pm(sm, ss)} {unit} | {ours} {unit if 'not' not in ours else ''} |")
     return 0
