@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The paper's validation (section 5.2): its comparison RVEs, the 0/90 NCF at 2x2 and the +-45 NCF at
+# 3x3 elementary RVEs, through the five manufacturing stages (Table 3's parameters, the cards of
+# examples/gen-*) with several seeds, measured with ncf-measure and pooled beside Tables 2 and 4.
+# Usage: bash examples/validation/validate.sh OUT [SEED ...]          (default seeds: 1 2 3)
+#   NCF_VALIDATE="ncf090 ncf45" (the fabrics), NCF_NP (ranks, default 2), NCF_LMP_ARGS as for
+#   examples/manufacturing/run.sh (a departure from Table 3 given there is the user's to state).
+# A run already complete in OUT (its release data and measurement exist) is not repeated.
+# About 20 minutes per fabric and seed on 2 cores. Writes OUT/validation.md.
+set -eEuo pipefail
+trap 'echo "[validate] stopped by a failing command (status $?), line $LINENO: $BASH_COMMAND"' ERR
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+out=$(mkdir -p "${1:?usage: validate.sh OUT [SEED ...]}" && cd "$1" && pwd)
+shift
+seeds=("$@")
+[ ${#seeds[@]} -gt 0 ] || seeds=(1 2 3)
+source "${NCF_BUILD:-$root/build}/ncf-env.sh"
+export NCF_NP=${NCF_NP:-2}
+declare -A rve=([ncf090]="2 2" [ncf45]="3 3")
+for fab in ${NCF_VALIDATE:-ncf090 ncf45}; do
+  [ -n "${rve[$fab]:-}" ] || { echo "validate.sh: unknown fabric '$fab' (ncf090, ncf45)"; exit 1; }
+  for seed in "${seeds[@]}"; do
+    dir="$out/$fab-seed$seed"
+    if [ -s "$dir/measure/ncf-measure-summary.csv" ]; then
+      echo "[validate] $fab seed $seed: done before ($dir)"
+      continue
+    fi
+    t0=$SECONDS
+    NCF_RVE="${rve[$fab]}" NCF_SEED=$seed bash "$root/examples/manufacturing/run.sh" "$dir" "$fab"
+    echo "$fab seed $seed rve ${rve[$fab]} wall_s $((SECONDS - t0)) ranks $NCF_NP" > "$dir/wall"
+    /usr/bin/python3 "$root/examples/manufacturing/report_manufacturing.py" "$fab" --dir "$dir" \
+      --out "$dir/manufacturing.md" > /dev/null ||
+      echo "[validate] WARNING: a check of the manufacturing failed, see $dir/manufacturing.md"
+    ncf-measure "$dir/$fab.release.data" --needles "$dir/$fab.needles" --summary "$dir/$fab.summary" \
+      --out "$dir/measure" -q
+  done
+done
+{
+  echo "# Validation: the paper's comparison RVEs (generated $(date -u '+%Y-%m-%d %H:%M UTC'))"
+  echo
+  echo "| fabric | seed | RVE | nodes with the yarn | wall time | ranks | checks |"
+  echo "|---|---|---|---|---|---|---|"
+  args=()
+  for fab in ncf090 ncf45; do
+    csvs=()
+    for d in "$out/$fab"-seed*; do
+      [ -s "$d/measure/ncf-measure-summary.csv" ] || continue
+      csvs+=("$d/measure/ncf-measure-summary.csv")
+      read -r _ _ seed _ r1 r2 _ wall _ np < "$d/wall"
+      nodes=$(grep 'total atoms' "$d/$fab.summary" | awk '{print $4}')
+      checks=$(grep -q FAIL "$d/manufacturing.md" && echo "a check failed" || echo "all hold")
+      echo "| $fab | $seed | $r1×$r2 | $nodes | $((wall / 60)) min $((wall % 60)) s | $np | $checks |"
+    done
+    [ ${#csvs[@]} -gt 0 ] && args+=("--$fab" "${csvs[@]}")
+  done
+  echo
+  echo "All measurements of all seeds pooled (mean ± SD, number of measurements):"
+  echo
+  /usr/bin/python3 "$root/examples/manufacturing/compare_paper.py" "${args[@]}"
+} > "$out/validation.md"
+echo "[validate] $out/validation.md"
