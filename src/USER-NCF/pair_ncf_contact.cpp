@@ -523,6 +523,11 @@ void PairNCFContact::init_style()
   fill_topology();
   find_lmax();
   reach_max = 0.0;
+  if (dtcheck && update->whichflag == 1 && !(update->dt > 0.0)) {
+    const std::string msg = fmt::format("pair ncf/contact: timestep {} is not > 0", update->dt);
+    if (dtcheck == 2) error->all(FLERR, msg);
+    if (comm->me == 0) error->warning(FLERR, msg);
+  }
   if (dt_critical > 0.0 && dtcheck && update->whichflag == 1) {
     const double dt = update->dt;
     if (comm->me == 0)
