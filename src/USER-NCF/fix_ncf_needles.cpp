@@ -207,6 +207,10 @@ void FixNCFNeedles::update_tip()
 {
   if (motion.kind == NCF::Motion::VARIABLE) {
     ztip = input->variable->compute_equal(ivar);
+    // (a variable is looked up at init: not yet when the fix is defined)
+    if (ivar >= 0 && !std::isfinite(ztip))
+      error->all(FLERR, "fix ncf/needles: variable '{}' gives the tip height {} at step {}", var,
+                 ztip, update->ntimestep);
     return;
   }
   double v;
