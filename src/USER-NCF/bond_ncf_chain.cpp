@@ -22,6 +22,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "ncf_args_lammps.h"
 #include "ncf_lammps_compat.h"
 
 #include <cmath>
@@ -115,10 +116,12 @@ void BondNCFChain::coeff(int narg, char **arg)
                narg);
   if (!allocated) allocate();
 
+  const std::string what = "bond_coeff ncf/chain";
   int ilo, ihi;
-  utils::bounds(FLERR, arg[0], 1, atom->nbondtypes, ilo, ihi, error);
+  NCF_LMP::types(lmp, what, "bond type", arg[0], atom->nbondtypes, ilo, ihi);
 
   double ea_in = -1.0, modulus = -1.0, diameter = -1.0, shrink_in = 0.0, compression_in = 1.0;
+  std::vector<std::string> given;
   int iarg = 1;
   while (iarg < narg) {
     const std::string key = arg[iarg];
@@ -127,10 +130,10 @@ void BondNCFChain::coeff(int narg, char **arg)
       error->all(FLERR, "bond_coeff ncf/chain: unknown keyword '{}'", key);
     if (iarg + 1 >= narg)
       error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' needs a value", key);
-    if (!utils::is_double(arg[iarg + 1]))
-      error->all(FLERR, "bond_coeff ncf/chain: value '{}' of '{}' is not a number", arg[iarg + 1],
-                 key);
-    const double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    for (const auto &g : given)
+      if (g == key) error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' given twice", key);
+    given.push_back(key);
+    const double v = NCF_LMP::number(lmp, what, key, arg[iarg + 1]);
     if (key == "ea") {
       if (!(v > 0.0))
         error->all(FLERR, "bond_coeff ncf/chain: ea must be > 0, got {}", arg[iarg + 1]);
@@ -166,6 +169,11 @@ void BondNCFChain::coeff(int narg, char **arg)
                  "both 'modulus' and 'diameter'",
                  arg[0]);
     ea_in = modulus * 0.25 * M_PI * diameter * diameter;
+    if (!(std::isfinite(ea_in) && ea_in > 0.0))
+      error->all(FLERR,
+                 "bond_coeff ncf/chain: modulus {} and diameter {} give EA = {}, not a finite "
+                 "number > 0",
+                 modulus, diameter, ea_in);
   }
 
   for (int i = ilo; i <= ihi; i++) {
@@ -204,10 +212,82 @@ void BondNCFChain::find_store()
 
 void BondNCFChain::init_style()
 {
+  // (also called by fix adapt after every change of ea, shrink or compression)
+  check_coefficients();
   create_store();
   capture_pending = true;
   l0_ncalls = -1;
   update_maxl0();
+}
+
+/* ----------------------------------------------------------------------
+   the per-type coefficients, at every init: bond_coeff checks what it reads, but fix adapt
+   changes them at run time (it calls init through reinit after every change)
+------------------------------------------------------------------------- */
+
+void BondNCFChain::check_coefficients()
+{
+  for (int t = 1; t <= atom->nbondtypes && t < (int) ea.size(); t++) {
+    if (!(std::isfinite(ea[t]) && ea[t] > 0.0))
+      error->all(FLERR,
+                 "bond ncf/chain: ea of bond type {} is {} (changed by fix adapt?); it must be a "
+                 "finite number > 0",
+                 t, ea[t]);
+    if (!(shrink[t] >= 0.0 && shrink[t] < 1.0))
+      error->all(FLERR,
+                 "bond ncf/chain: shrink of bond type {} is {} (changed by fix adapt?); it must "
+                 "be in [0, 1)",
+                 t, shrink[t]);
+    if (!(compression[t] >= 0.0 && compression[t] <= 1.0))
+      error->all(FLERR,
+                 "bond ncf/chain: compression of bond type {} is {} (changed by fix adapt?); it "
+                 "must be in [0, 1]",
+                 t, compression[t]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the bonds as the run sees them, at every setup (collective; bond list and ghosts current):
+   no bond of length 0, every reference length a finite number > 0, and no pair of nodes bonded
+   twice (a duplicate line of a data file, or a ring of two nodes): each node has as many bonds
+   as distinct bonded neighbours (LAMMPS's 1-2 list holds every neighbour once)
+------------------------------------------------------------------------- */
+
+void BondNCFChain::check_bonds()
+{
+  double **x = atom->x;
+  const tagint *tag = atom->tag;
+  int **bondlist = neighbor->bondlist;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const int newton_bond = force->newton_bond;
+  ksum.assign(nall, 0.0);
+  for (int n = 0; n < neighbor->nbondlist; n++) {
+    const int i1 = bondlist[n][0], i2 = bondlist[n][1];
+    const double dx = x[i1][0] - x[i2][0], dy = x[i1][1] - x[i2][1], dz = x[i1][2] - x[i2][2];
+    if (!(dx * dx + dy * dy + dz * dz > 0.0))
+      error->one(FLERR,
+                 "bond ncf/chain: bond {}-{} has length 0: its two atoms are at the same place",
+                 tag[i1], tag[i2]);
+    const double l0 = reference_length(i1, i2);
+    if (!(std::isfinite(l0) && l0 > 0.0))
+      error->one(FLERR,
+                 "bond ncf/chain: bond {}-{} has the reference length {} (section {} of the data "
+                 "file or restart); it must be a finite number > 0",
+                 tag[i1], tag[i2], l0, STORE_ID);
+    if (newton_bond || i1 < nlocal) ksum[i1] += 1.0;
+    if (newton_bond || i2 < nlocal) ksum[i2] += 1.0;
+  }
+  if (newton_bond) {
+    comm_mode = COMM_STIFFNESS;
+    comm->reverse_comm(this, 1);
+    comm_mode = COMM_SLOTS;
+  }
+  for (int i = 0; i < nlocal; i++)
+    if (ksum[i] > atom->nspecial[i][0])
+      error->one(FLERR,
+                 "bond ncf/chain: atom {} has {} bonds to {} distinct atom(s): a bond is given "
+                 "twice (a repeated line in the Bonds section, or a ring of two atoms)",
+                 tag[i], (int) ksum[i], atom->nspecial[i][0]);
 }
 
 void BondNCFChain::update_maxl0()
@@ -356,9 +436,21 @@ void BondNCFChain::estimate_critical_timestep()
   double all = 0.0;
   MPI_Allreduce(&omega2, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   dt_critical = (all > 0.0) ? 2.0 / sqrt(all) : 0.0;
-  if (dt_critical <= 0.0 || dtcheck == DT_NONE || update->whichflag != 1) return;
-
+  if (dtcheck == DT_NONE || update->whichflag != 1) return;
   const double dt = update->dt;
+  if (!std::isfinite(all) || !(dt > 0.0)) {
+    const std::string msg = !std::isfinite(all)
+        ? fmt::format("bond ncf/chain: the critical time step of the chain bonds is 0: the "
+                      "stiffness EA/L0 per node mass overflows ({}); check the bond "
+                      "coefficients, the reference lengths and the masses",
+                      all)
+        : fmt::format("bond ncf/chain: timestep {} is not > 0", dt);
+    if (dtcheck == DT_ERROR) error->all(FLERR, msg);
+    if (comm->me == 0) error->warning(FLERR, msg);
+    return;
+  }
+  if (dt_critical <= 0.0) return;
+
   if (comm->me == 0)
     utils::logmesg(lmp,
                    "bond ncf/chain: critical time step {:.6g}, timestep {:.6g} ({:.3g} of it)\n",
@@ -381,7 +473,10 @@ void BondNCFChain::compute(int eflag, int vflag)
   if (capture_pending) {
     capture_missing();
     capture_pending = false;
-    if (update->setupflag) estimate_critical_timestep();
+    if (update->setupflag) {
+      check_bonds();
+      estimate_critical_timestep();
+    }
   }
 
   ev_init(eflag, vflag);

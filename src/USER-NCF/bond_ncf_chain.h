@@ -77,6 +77,8 @@ class BondNCFChain : public Bond {
   void update_maxl0();
   NCF::RodParams rod(int type) const { return {ea[type], shrink[type], compression[type]}; }
   void estimate_critical_timestep();
+  void check_coefficients();
+  void check_bonds();
   int count_owned_slots() const;
 };
 

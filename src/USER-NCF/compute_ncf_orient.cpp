@@ -9,12 +9,17 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "group.h"
 #include "memory.h"
 #include "update.h"
 
+#include "ncf_args_lammps.h"
+
 #include "ncf_orient.h"
 
+#include <climits>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 
@@ -28,28 +33,35 @@ static constexpr int NPER = 6;    // vector values per layer
 ComputeNCFOrient::ComputeNCFOrient(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), nbins(60), range(15.0), layer_name("ncf_layer"), idx_layer(-1)
 {
+  const std::string W = "compute ncf/orient";
   int iarg = 3;
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "layer") {
       if (iarg + 2 >= narg)
         error->all(FLERR, "compute ncf/orient: keyword 'layer' needs a layer index and its angle");
-      const int l = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!utils::is_integer(arg[iarg + 1]))
+        error->all(FLERR, "compute ncf/orient: layer index '{}' is not an integer", arg[iarg + 1]);
+      const int l = (int) NCF_LMP::integer(lmp, W, key, arg[iarg + 1], INT_MIN, INT_MAX);
       if (l < 0) error->all(FLERR, "compute ncf/orient: layer index {} must be >= 0", l);
       for (int k : layers)
         if (k == l) error->all(FLERR, "compute ncf/orient: layer {} given twice", l);
       layers.push_back(l);
-      nominal.push_back(utils::numeric(FLERR, arg[iarg + 2], false, lmp));
+      nominal.push_back(NCF_LMP::number(lmp, W, "layer", arg[iarg + 2]));
       iarg += 3;
     } else if (key == "bins") {
       if (iarg + 1 >= narg) error->all(FLERR, "compute ncf/orient: keyword 'bins' needs a value");
-      nbins = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (nbins < 1 || nbins > 100000)
-        error->all(FLERR, "compute ncf/orient: bins {} must be in [1, 100000]", nbins);
+      if (!utils::is_integer(arg[iarg + 1]))
+        error->all(FLERR, "compute ncf/orient: value '{}' of 'bins' is not an integer",
+                   arg[iarg + 1]);
+      const long long nb = NCF_LMP::integer(lmp, W, key, arg[iarg + 1], LLONG_MIN, LLONG_MAX);
+      if (nb < 1 || nb > 100000)
+        error->all(FLERR, "compute ncf/orient: bins {} must be in [1, 100000]", arg[iarg + 1]);
+      nbins = (int) nb;
       iarg += 2;
     } else if (key == "range") {
       if (iarg + 1 >= narg) error->all(FLERR, "compute ncf/orient: keyword 'range' needs a value");
-      range = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      range = NCF_LMP::number(lmp, W, key, arg[iarg + 1]);
       if (!(range > 0.0 && range <= 90.0))
         error->all(FLERR, "compute ncf/orient: range {} must be in (0, 90] degrees", range);
       iarg += 2;
@@ -92,6 +104,20 @@ void ComputeNCFOrient::init()
   if (idx_layer < 0 || flag != 0 || cols != 0)
     error->all(FLERR, "compute ncf/orient: no per-atom integer i_{} with the layer of each node",
                layer_name);
+  // a layer without a node in the group has no statistics: 0 +- 0 would look like a result
+  const int *layer = atom->ivector[idx_layer];
+  const int *mask = atom->mask;
+  const int nl = (int) layers.size();
+  std::vector<bigint> mine(nl, 0), all(nl, 0);
+  for (int i = 0; i < atom->nlocal; i++)
+    if (mask[i] & groupbit)
+      for (int k = 0; k < nl; k++)
+        if (layer[i] == layers[k]) mine[k]++;
+  MPI_Allreduce(mine.data(), all.data(), nl, MPI_LMP_BIGINT, MPI_SUM, world);
+  for (int k = 0; k < nl; k++)
+    if (all[k] == 0)
+      error->all(FLERR, "compute ncf/orient: layer {} has no atom in group {} (i_{} = {} nowhere)",
+                 layers[k], group->names[igroup], layer_name, layers[k]);
 }
 
 /* ----------------------------------------------------------------------

@@ -22,12 +22,14 @@
 #include "update.h"
 #include "variable.h"
 
+#include "ncf_args_lammps.h"
 #include "ncf_lammps_compat.h"
 #include "ncf_motion_lammps.h"
 #include "ncf_needle.h"
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -59,9 +61,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   chain_d.assign(atom->ntypes + 1, 0.0);
   auto number = [&](int i, const char *key) {
     if (i >= narg) error->all(FLERR, "fix ncf/needles: keyword '{}' needs more values", key);
-    if (!utils::is_double(arg[i]))
-      error->all(FLERR, "fix ncf/needles: value '{}' of '{}' is not a number", arg[i], key);
-    return utils::numeric(FLERR, arg[i], false, lmp);
+    return NCF_LMP::number(lmp, "fix ncf/needles", key, arg[i]);
   };
   int iarg = 3;
   while (iarg < narg) {
@@ -89,7 +89,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR,
                    "fix ncf/needles: keyword 'chain' needs an atom type range and a diameter");
       int lo, hi;
-      utils::bounds(FLERR, arg[iarg + 1], 1, atom->ntypes, lo, hi, error);
+      NCF_LMP::types(lmp, "fix ncf/needles", "chain", arg[iarg + 1], atom->ntypes, lo, hi);
       const double d = number(iarg + 2, "chain");
       if (!(d > 0.0))
         error->all(FLERR, "fix ncf/needles: chain diameter {} must be > 0", arg[iarg + 2]);
@@ -138,6 +138,23 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                length, NCF::needle_min_length(1.0), tip);
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
+  // positions outside the box: in a periodic direction the needle acts through its periodic
+  // image, so it is wrapped into the box (inside the box nothing changes); in a direction that
+  // is not periodic, or farther than a few box lengths (a typing mistake), it is an error
+  for (std::size_t k = 0; k < nx.size(); k++) {
+    double *xy[2] = {&nx[k], &ny[k]};
+    for (int d = 0; d < 2; d++) {
+      double &v = *xy[d];
+      const double lo = domain->boxlo[d], hi = domain->boxhi[d], prd = hi - lo;
+      if (v >= lo && v <= hi) continue;
+      if (!domain->periodicity[d] || !(v > lo - 100.0 * prd && v < hi + 100.0 * prd))
+        error->all(FLERR,
+                   "fix ncf/needles: needle {} at ({}, {}) lies outside the box in {} ([{}, {}]{})",
+                   k + 1, nx[k], ny[k], d ? "y" : "x", lo, hi,
+                   domain->periodicity[d] ? ", periodic, by more than 100 box lengths" : "");
+      v -= prd * std::floor((v - lo) / prd);
+    }
+  }
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);
@@ -162,8 +179,12 @@ void FixNCFNeedles::read_needles(const std::string &file)
     if (!(words >> a)) continue;
     if (!(words >> b) || (words >> extra) || !utils::is_double(a) || !utils::is_double(b))
       error->all(FLERR, "fix ncf/needles: {}:{}: expected 'x y', got '{}'", file, lineno, line);
-    nx.push_back(std::stod(a));
-    ny.push_back(std::stod(b));
+    const double x = std::strtod(a.c_str(), nullptr), y = std::strtod(b.c_str(), nullptr);
+    if (!std::isfinite(x) || !std::isfinite(y))
+      error->all(FLERR, "fix ncf/needles: {}:{}: needle position '{}' is not finite", file, lineno,
+                 line);
+    nx.push_back(x);
+    ny.push_back(y);
   }
 }
 
@@ -186,6 +207,10 @@ void FixNCFNeedles::update_tip()
 {
   if (motion.kind == NCF::Motion::VARIABLE) {
     ztip = input->variable->compute_equal(ivar);
+    // (a variable is looked up at init: not yet when the fix is defined)
+    if (ivar >= 0 && !std::isfinite(ztip))
+      error->all(FLERR, "fix ncf/needles: variable '{}' gives the tip height {} at step {}", var,
+                 ztip, update->ntimestep);
     return;
   }
   double v;

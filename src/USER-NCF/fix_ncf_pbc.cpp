@@ -27,10 +27,12 @@
 #include "modify.h"
 #include "update.h"
 
+#include "ncf_args_lammps.h"
 #include "ncf_material.h"
 #include "ncf_pbc.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstring>
 
@@ -138,8 +140,15 @@ void FixNCFPBC::parse(int narg, char **arg)
       need(2);
       const int p = key == "xcells" ? 0 : 1;
       for (int k = 0; k < 2; k++) {
-        const int n = utils::inumeric(FLERR, arg[iarg + 1 + k], false, lmp);
+        if (!utils::is_integer(arg[iarg + 1 + k]))
+          error->all(FLERR, "fix ncf/pbc: value '{}' of '{}' is not an integer", arg[iarg + 1 + k],
+                     key);
+        const long long n =
+            NCF_LMP::integer(lmp, "fix ncf/pbc", key, arg[iarg + 1 + k], LLONG_MIN, LLONG_MAX);
         if (n < 1) error->all(FLERR, "fix ncf/pbc: {} values must be >= 1, got {}", key, n);
+        if (n > INT_MAX)
+          error->all(FLERR, "fix ncf/pbc: {} values must be <= {}, got {}", key, INT_MAX,
+                     arg[iarg + 1 + k]);
         user_cells[p][k] = n;
       }
       iarg += 3;

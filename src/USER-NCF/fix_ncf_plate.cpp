@@ -15,6 +15,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "ncf_args_lammps.h"
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
 #include "ncf_motion_lammps.h"
@@ -86,9 +87,7 @@ void FixNCFPlate::parse(int narg, char **arg)
   bool have_kn = false;
   int iarg = 3;
   auto positive = [&](const char *key, const char *text, bool strict) {
-    if (!utils::is_double(text))
-      error->all(FLERR, "fix ncf/plate: value '{}' of '{}' is not a number", text, key);
-    const double v = utils::numeric(FLERR, text, false, lmp);
+    const double v = NCF_LMP::number(lmp, "fix ncf/plate", key, text);
     if (strict ? !(v > 0.0) : !(v >= 0.0))
       error->all(FLERR, "fix ncf/plate: {} must be {} 0, got {}", key, strict ? ">" : ">=", text);
     return v;
@@ -97,6 +96,8 @@ void FixNCFPlate::parse(int narg, char **arg)
     const std::string key = arg[iarg];
     if (key == "lower" || key == "upper") {
       Plate &p = plate[key == "lower" ? 0 : 1];
+      if (p.motion.kind != NCF::Motion::NONE)
+        error->all(FLERR, "fix ncf/plate: keyword '{}' given twice (one plate of each)", key);
       iarg = NCF_LMP::parse_motion(lmp, "fix ncf/plate: '" + key, iarg + 1, narg, arg, p.motion,
                                    p.var, true);
       continue;
@@ -107,13 +108,14 @@ void FixNCFPlate::parse(int narg, char **arg)
       if (iarg + 2 >= narg)
         error->all(FLERR, "fix ncf/plate: keyword 'diameter' needs an atom type range and a value");
       int lo, hi;
-      utils::bounds(FLERR, arg[iarg + 1], 1, atom->ntypes, lo, hi, error);
+      NCF_LMP::types(lmp, "fix ncf/plate", "diameter", arg[iarg + 1], atom->ntypes, lo, hi);
       const double d = positive("diameter", arg[iarg + 2], true);
       for (int t = lo; t <= hi; t++) diameter[t] = d;
       iarg += 3;
       continue;
     }
     if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/plate: keyword '{}' needs a value", key);
+    if (key == "kn" && have_kn) error->all(FLERR, "fix ncf/plate: keyword 'kn' given twice");
     if (key == "kn") {
       kn = positive("kn", arg[iarg + 1], true);
       have_kn = true;
@@ -168,11 +170,26 @@ void FixNCFPlate::update_plates()
     Plate &p = plate[k];
     if (p.motion.kind == NCF::Motion::VARIABLE) {
       const double z = input->variable->compute_equal(p.ivar);
+      if (p.ivar >= 0 && !std::isfinite(z))
+        error->all(FLERR, "fix ncf/plate: variable '{}' gives the plate height {} at step {}",
+                   p.var, z, update->ntimestep);
       p.vz = update->dt > 0.0 ? (z - zprev[k]) / update->dt : 0.0;
       zprev[k] = p.z = z;
     } else
       p.motion.at(t, p.z, p.vz);
   }
+  // both plates: the lower one below the upper one, whatever moves them (checked at every step,
+  // since a motion or a variable may bring them together later)
+  // (a variable is looked up at init: not yet when the fix is defined)
+  bool known = true;
+  for (auto &p : plate)
+    known &= p.motion.kind != NCF::Motion::NONE &&
+        !(p.motion.kind == NCF::Motion::VARIABLE && p.ivar < 0);
+  if (known && !(plate[0].z < plate[1].z))
+    error->all(FLERR,
+               "fix ncf/plate: the lower plate (z = {}) is not below the upper plate (z = {}) at "
+               "step {}",
+               plate[0].z, plate[1].z, update->ntimestep);
 }
 
 /* ----------------------------------------------------------------------

@@ -10,9 +10,14 @@
 #include "comm.h"
 #include "error.h"
 #include "force.h"
+#include "modify.h"
 #include "update.h"
 
+#include "ncf_args_lammps.h"
+
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -40,18 +45,18 @@ FixNCFShrink::FixNCFShrink(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR, "fix ncf/shrink: keyword '{}' needs {} value(s)", key, n);
   };
   auto number = [&](int k, const std::string &key) {
-    if (!utils::is_double(arg[iarg + k]))
-      error->all(FLERR, "fix ncf/shrink: value '{}' of '{}' is not a number", arg[iarg + k], key);
-    return utils::numeric(FLERR, arg[iarg + k], false, lmp);
+    return NCF_LMP::number(lmp, "fix ncf/shrink", key, arg[iarg + k]);
   };
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "btype") {
       need(1, key);
-      btype = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (btype < 1 || btype > atom->nbondtypes)
-        error->all(FLERR, "fix ncf/shrink: btype {} is not a bond type (1-{})", btype,
+      const long long b =
+          utils::is_integer(arg[iarg + 1]) ? utils::bnumeric(FLERR, arg[iarg + 1], false, lmp) : 0;
+      if (b < 1 || b > atom->nbondtypes)
+        error->all(FLERR, "fix ncf/shrink: btype {} is not a bond type (1-{})", arg[iarg + 1],
                    atom->nbondtypes);
+      btype = (int) b;
       iarg += 2;
     } else if (key == "strain") {
       need(1, key);
@@ -73,7 +78,9 @@ FixNCFShrink::FixNCFShrink(LAMMPS *lmp, int narg, char **arg) :
       iarg += 3;
     } else if (key == "steps") {
       need(1, key);
-      nsteps = utils::bnumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!utils::is_integer(arg[iarg + 1]))
+        error->all(FLERR, "fix ncf/shrink: steps '{}' is not an integer", arg[iarg + 1]);
+      nsteps = NCF_LMP::integer(lmp, "fix ncf/shrink", key, arg[iarg + 1], LLONG_MIN, MAXBIGINT);
       if (nsteps < 1) error->all(FLERR, "fix ncf/shrink: steps {} must be >= 1", nsteps);
       iarg += 2;
     } else if (key == "ramp") {
@@ -115,6 +122,16 @@ void FixNCFShrink::init()
     error->all(FLERR, "fix ncf/shrink needs bond_style ncf/chain");
   int dim;
   shrink = static_cast<double *>(force->bond->extract("shrink", dim));
+  // two ramps on one bond type would overwrite each other's shrink factor at every step
+  for (auto *f : modify->get_fix_by_style("^ncf/shrink")) {
+    if (f == this) break;
+    auto *other = dynamic_cast<FixNCFShrink *>(f);
+    if (other && other->bond_type() == btype)
+      error->all(FLERR,
+                 "fix ncf/shrink: fixes {} and {} both ramp the shrink factor of bond type {}; "
+                 "one fix per bond type",
+                 f->id, id, btype);
+  }
 }
 
 double FixNCFShrink::ramp(int shape, double tau)

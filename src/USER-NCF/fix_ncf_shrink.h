@@ -33,6 +33,7 @@ class FixNCFShrink : public Fix {
   // shrink factor at progress tau in [0, 1] (smooth: zero rate at both ends for 'cosine')
   static double ramp(int shape, double tau);
   enum Shape { LINEAR, COSINE };
+  int bond_type() const { return btype; }
 
  protected:
   int btype;        // bond type

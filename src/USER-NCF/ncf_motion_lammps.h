@@ -18,6 +18,7 @@
 #include "ncf_motion.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 namespace NCF_LMP {
@@ -37,6 +38,8 @@ inline int parse_motion(LAMMPS_NS::LAMMPS *lmp, const std::string &what, int iar
     if (iarg + k >= narg) error->all(FLERR, "{} {}' needs more values", what, kind);
     if (!LAMMPS_NS::utils::is_double(arg[iarg + k]))
       error->all(FLERR, "{} {}': value '{}' is not a number", what, kind, arg[iarg + k]);
+    if (!std::isfinite(std::strtod(arg[iarg + k], nullptr)))
+      error->all(FLERR, "{} {}': value '{}' is not a finite number", what, kind, arg[iarg + k]);
     return LAMMPS_NS::utils::numeric(FLERR, arg[iarg + k], false, lmp);
   };
   if (kind == "z" && allow_fixed) {

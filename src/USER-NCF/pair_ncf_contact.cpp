@@ -40,9 +40,11 @@
 #include "update.h"
 #include "utils.h"
 
+#include "ncf_args_lammps.h"
 #include "ncf_contact.h"
 #include "ncf_lammps_compat.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -148,27 +150,26 @@ void PairNCFContact::settings(int narg, char **arg)
     const std::string key = arg[iarg];
     if (iarg + 2 > narg) error->all(FLERR, "pair_style ncf/contact: keyword {} needs a value", key);
     const char *val = arg[iarg + 1];
+    const std::string W = "pair_style ncf/contact";
     if (key == "ramp") {
-      ramp_frac = utils::numeric(FLERR, val, false, lmp);
+      ramp_frac = NCF_LMP::number(lmp, W, key, val);
       if (!(ramp_frac > 0.0) || ramp_frac > 1.0)
         error->all(FLERR, "pair_style ncf/contact: ramp {} out of range (0, 1]", val);
     } else if (key == "core") {
-      core = utils::numeric(FLERR, val, false, lmp);
+      core = NCF_LMP::number(lmp, W, key, val);
       if (!(core >= 0.0) || core > 1000.0)
         error->all(FLERR, "pair_style ncf/contact: core {} out of range [0, 1000]", val);
     } else if (key == "endcap") {
-      endcap_frac = utils::numeric(FLERR, val, false, lmp);
+      endcap_frac = NCF_LMP::number(lmp, W, key, val);
       if (!(endcap_frac >= 0.0) || endcap_frac > 2.0)
         error->all(FLERR, "pair_style ncf/contact: endcap {} out of range [0, 2]", val);
     } else if (key == "lmax") {
-      lmax_user = utils::numeric(FLERR, val, false, lmp);
+      lmax_user = NCF_LMP::number(lmp, W, key, val);
       if (lmax_user < 0.0) error->all(FLERR, "pair_style ncf/contact: lmax {} must be >= 0", val);
     } else if (key == "maxcontacts") {
-      maxcontacts = utils::inumeric(FLERR, val, false, lmp);
-      if (maxcontacts < 1 || maxcontacts > 1000)
-        error->all(FLERR, "pair_style ncf/contact: maxcontacts {} out of range [1, 1000]", val);
+      maxcontacts = (int) NCF_LMP::integer(lmp, W, key, val, 1, 1000);
     } else if (key == "fatom") {
-      fatom_flag = utils::logical(FLERR, val, false, lmp);
+      fatom_flag = NCF_LMP::logical(lmp, W, key, val) ? 1 : 0;
     } else if (key == "dtcheck") {
       if (strcmp(val, "error") == 0)
         dtcheck = 2;
@@ -200,17 +201,24 @@ void PairNCFContact::coeff(int narg, char **arg)
 {
   if (narg < 2) error->all(FLERR, "pair_coeff ncf/contact: expected I J kn <value> ...");
   if (!allocated) allocate();
+  const std::string W = "pair_coeff ncf/contact";
   int ilo, ihi, jlo, jhi;
-  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
-  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+  NCF_LMP::types(lmp, W, "I", arg[0], atom->ntypes, ilo, ihi);
+  NCF_LMP::types(lmp, W, "J", arg[1], atom->ntypes, jlo, jhi);
 
   double kn_one = -1.0, kt_one = 1.0, mu_one = 0.0, damp_one = 0.0, d_one = -1.0;
+  std::vector<std::string> seen;
   int iarg = 2;
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    if (key != "kn" && key != "kt" && key != "mu" && key != "damp" && key != "diameter")
+      error->all(FLERR, "pair_coeff ncf/contact: unknown keyword {}", key);
     if (iarg + 2 > narg) error->all(FLERR, "pair_coeff ncf/contact: keyword {} needs a value", key);
+    for (const auto &k : seen)
+      if (k == key) error->all(FLERR, "pair_coeff ncf/contact: keyword {} given twice", key);
+    seen.push_back(key);
     const char *val = arg[iarg + 1];
-    const double v = utils::numeric(FLERR, val, false, lmp);
+    const double v = NCF_LMP::number(lmp, W, key, val);
     if (key == "kn") {
       if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: kn {} must be > 0", val);
       kn_one = v;
@@ -226,13 +234,18 @@ void PairNCFContact::coeff(int narg, char **arg)
     } else if (key == "diameter") {
       if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: diameter {} must be > 0", val);
       d_one = v;
-    } else {
-      error->all(FLERR, "pair_coeff ncf/contact: unknown keyword {}", key);
     }
     iarg += 2;
   }
   if (kn_one < 0.0 && d_one < 0.0)
     error->all(FLERR, "pair_coeff ncf/contact: give kn (and optionally kt, mu, damp, diameter)");
+  if (kn_one < 0.0)
+    for (const auto &k : seen)
+      if (k != "diameter")
+        error->all(FLERR,
+                   "pair_coeff ncf/contact: keyword {} for types {} {} needs kn in the same "
+                   "pair_coeff (a line without kn sets only the diameter)",
+                   k, arg[0], arg[1]);
 
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {
@@ -251,7 +264,8 @@ void PairNCFContact::coeff(int narg, char **arg)
         mu[i][j] = mu_one;
         damp[i][j] = damp_one;
         setflag[i][j] = given[i][j] = 1;
-      }
+      } else
+        setflag[i][j] = 1;    // a diameter only: init_style says which kn is missing
       count++;
     }
   }
@@ -364,12 +378,106 @@ void PairNCFContact::find_lmax()
   MPI_Allreduce(&omega2, &omega2all, 1, MPI_DOUBLE, MPI_MAX, world);
   dt_critical = omega2all > 0.0 ? 2.0 / std::sqrt(omega2all) : 0.0;
 
+  check_coincident(xall);
+
   double all;
   MPI_Allreduce(&lmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   lmax_used = lmax_user > 0.0 ? lmax_user : 1.1 * all;
   if (lmax_user > 0.0 && all > lmax_user)
     error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all,
                lmax_user);
+}
+
+/* ----------------------------------------------------------------------
+   no two segments on top of each other (both nodes of one at the places of both nodes of
+   another: chains read twice, or stacked by a generator): the contact law has no direction
+   between coincident axes. Single coincident nodes (chains crossing at a node) are fine.
+   xall: the unwrapped position of every tag (zero for tags that do not exist), the same on
+   every rank, so every rank finds the same nodes; only their segments are gathered.
+------------------------------------------------------------------------- */
+
+void PairNCFContact::check_coincident(const std::vector<double> &xall)
+{
+  const tagint maxtag = atom->map_tag_max;
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  std::vector<double> w(xall.size());
+  for (tagint t = 1; t <= maxtag; t++)
+    for (int d = 0; d < 3; d++) {
+      double x = xall[3 * t + d];
+      if (periodic[d]) x -= domain->prd[d] * std::floor((x - domain->boxlo[d]) / domain->prd[d]);
+      w[3 * t + d] = x;
+    }
+  auto place_less = [&](tagint a, tagint b) {
+    for (int d = 0; d < 3; d++)
+      if (w[3 * a + d] != w[3 * b + d]) return w[3 * a + d] < w[3 * b + d];
+    return false;
+  };
+  auto same_place = [&](tagint a, tagint b) {
+    return !place_less(a, b) && !place_less(b, a);
+  };
+  std::vector<tagint> order;
+  order.reserve(maxtag);
+  for (tagint t = 1; t <= maxtag; t++) order.push_back(t);
+  std::sort(order.begin(), order.end(), [&](tagint a, tagint b) {
+    return place_less(a, b) || (!place_less(b, a) && a < b);
+  });
+  // tags sharing their place with another (tags that do not exist sit at the origin too)
+  std::vector<char> shared(maxtag + 1, 0);
+  bool any = false;
+  for (std::size_t k = 1; k < order.size(); k++)
+    if (same_place(order[k - 1], order[k])) {
+      shared[order[k - 1]] = shared[order[k]] = 1;
+      any = true;
+    }
+  if (!any) return;    // (the same on every rank)
+
+  // the segments (tag, partner tag > tag) of owned nodes with both nodes at shared places
+  std::vector<double> mine;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const tagint a = atom->tag[i];
+    if (!shared[a]) continue;
+    for (int s = 0; s < atom->nspecial[i][0] && s < 2; s++) {
+      const tagint b = atom->special[i][s];
+      if (b > a && shared[b]) mine.insert(mine.end(), {(double) a, (double) b});
+    }
+  }
+  int n = (int) mine.size(), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int q = 1; q < nprocs; q++) displs[q] = displs[q - 1] + counts[q - 1];
+  std::vector<double> segs(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, segs.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 world);
+  // each segment as (end at the lower place, end at the higher place); equal pairs of places
+  // are segments on top of each other
+  const std::size_t nseg = segs.size() / 2;
+  std::vector<std::pair<tagint, tagint>> ends(nseg);
+  for (std::size_t k = 0; k < nseg; k++) {
+    tagint a = (tagint) segs[2 * k], b = (tagint) segs[2 * k + 1];
+    if (place_less(b, a)) std::swap(a, b);
+    ends[k] = {a, b};
+  }
+  std::vector<std::size_t> idx(nseg);
+  for (std::size_t k = 0; k < nseg; k++) idx[k] = k;
+  auto seg_less = [&](std::size_t p, std::size_t q) {
+    if (place_less(ends[p].first, ends[q].first)) return true;
+    if (place_less(ends[q].first, ends[p].first)) return false;
+    if (place_less(ends[p].second, ends[q].second)) return true;
+    if (place_less(ends[q].second, ends[p].second)) return false;
+    return ends[p] < ends[q];
+  };
+  std::sort(idx.begin(), idx.end(), seg_less);
+  for (std::size_t k = 1; k < nseg; k++) {
+    const auto &p = ends[idx[k - 1]], &q = ends[idx[k]];
+    if (same_place(p.first, q.first) && same_place(p.second, q.second))
+      error->all(FLERR,
+                 "pair ncf/contact: bonds {}-{} and {}-{} lie on top of each other (their atoms at "
+                 "the same places, e.g. ({}, {}, {})): chains on top of each other (a chain read "
+                 "twice?) have no contact direction",
+                 std::min(p.first, p.second), std::max(p.first, p.second),
+                 std::min(q.first, q.second), std::max(q.first, q.second), w[3 * p.first],
+                 w[3 * p.first + 1], w[3 * p.first + 2]);
+  }
 }
 
 void PairNCFContact::init_style()
@@ -380,6 +488,13 @@ void PairNCFContact::init_style()
   if (force->newton_pair == 0) error->all(FLERR, "pair ncf/contact requires newton pair on");
   if (atom->map_style == Atom::MAP_NONE) error->all(FLERR, "pair ncf/contact requires an atom map");
   tstride = atom->ntypes + 1;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      if (!given[i][j] && (!given[i][i] || !given[j][j]))
+        error->all(FLERR,
+                   "pair ncf/contact: no kn for atom types {} {} (pair_coeff {} {} kn KN), and "
+                   "none to mix from",
+                   i, j, i, j);
   for (int i = 1; i <= atom->ntypes; i++)
     if (!diamset[i])
       error->all(FLERR,
@@ -409,6 +524,11 @@ void PairNCFContact::init_style()
   fill_topology();
   find_lmax();
   reach_max = 0.0;
+  if (dtcheck && update->whichflag == 1 && !(update->dt > 0.0)) {
+    const std::string msg = fmt::format("pair ncf/contact: timestep {} is not > 0", update->dt);
+    if (dtcheck == 2) error->all(FLERR, msg);
+    if (comm->me == 0) error->warning(FLERR, msg);
+  }
   if (dt_critical > 0.0 && dtcheck && update->whichflag == 1) {
     const double dt = update->dt;
     if (comm->me == 0)
@@ -456,6 +576,22 @@ double PairNCFContact::init_one(int i, int j)
     mu[i][j] = std::sqrt(mu[i][i] * mu[j][j]);
     damp[i][j] = std::sqrt(damp[i][i] * damp[j][j]);
   }
+  // the coefficients as the run will use them: pair_coeff checks what it reads, but fix adapt
+  // changes kn, mu, damp and diameter at run time (and calls init_one again, through reinit)
+  const double cf[4] = {kn[i][j], ktr[i][j], mu[i][j], damp[i][j]};
+  const char *cname[4] = {"kn", "kt", "mu", "damp"};
+  for (int k = 0; k < 4; k++)
+    if (!std::isfinite(cf[k]) || (k == 0 ? !(cf[k] > 0.0) : !(cf[k] >= 0.0)))
+      error->all(FLERR,
+                 "pair ncf/contact: {} of atom types {} {} is {} (changed by fix adapt?); it "
+                 "must be a finite number {}",
+                 cname[k], i, j, cf[k], k == 0 ? "> 0" : ">= 0");
+  for (int t : {i, j})
+    if (!(std::isfinite(diameter[t]) && diameter[t] > 0.0))
+      error->all(FLERR,
+                 "pair ncf/contact: diameter of atom type {} is {} (changed by fix adapt?); it "
+                 "must be a finite number > 0",
+                 t, diameter[t]);
   kn[j][i] = kn[i][j];
   ktr[j][i] = ktr[i][j];
   mu[j][i] = mu[i][j];

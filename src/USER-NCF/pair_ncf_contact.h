@@ -192,6 +192,7 @@ class PairNCFContact : public Pair {
   void create_history_fix();
   void fill_topology();
   void find_lmax();
+  void check_coincident(const std::vector<double> &xall);
   void set_segments();
   const double *find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const;
   const double *find_slip_entry(int m, tagint ohi, tagint blo, tagint bhi) const;

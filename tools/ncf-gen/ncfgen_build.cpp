@@ -115,6 +115,12 @@ namespace {
 // the most fibre nodes a card may ask for (about 1 GB of LAMMPS data; 200 times the paper's
 // comparison RVEs)
 constexpr double MAX_NODES = 2e7;
+// the most chains of one layer: their placement compares every pair (the paper's RVEs have a few
+// hundred per layer)
+constexpr double MAX_CHAINS = 2e4;
+// a layer's chain count is the nearest integer to width x chains per width: further than this
+// from the target, the RVE is too narrow for the layer's areal weight
+constexpr double MAX_CHAIN_ROUNDING = 0.1;
 
 Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
 {
@@ -136,16 +142,15 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   // ---------------------------------------------------------------- fibrous layers
   // elements at least one chain diameter long: non-neighbouring elements of one straight chain
   // then never touch (the contact acts between all segments that share no node)
-  if (card.fibre_mesh < card.chain_diameter)
-    throw InputError(at(card.path, line_of("fibre_mesh", "chain_diameter")) +
-                     ": key 'fibre_mesh': value " + std::to_string(card.fibre_mesh) +
-                     " m is shorter than the chain diameter " +
-                     std::to_string(card.chain_diameter) + " m");
   auto num = [](double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return std::string(buf);
   };
+  if (card.fibre_mesh < card.chain_diameter)
+    throw InputError(at(card.path, line_of("fibre_mesh", "chain_diameter")) +
+                     ": key 'fibre_mesh': value " + num(card.fibre_mesh) +
+                     " m is shorter than the chain diameter " + num(card.chain_diameter) + " m");
   // an RVE side shorter than two elements has no room for a chain; a course shorter than that is
   // a stitch length typed in the wrong unit
   if (lx < 2.0 * card.fibre_mesh)
@@ -162,6 +167,7 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   double base = 0.0;    // bottom surface of the next layer
   int chain_id = 0;
   double nodes_estimate = 0.0;    // fibre nodes, summed over the layers before each is built
+  double fibre_nodes = 0.0;       // fibre nodes, counted chain by chain before each is built
   const double dc = card.chain_diameter, rc = 0.5 * dc;
   for (std::size_t li = 0; li < card.layers.size(); li++) {
     const LayerSpec &spec = card.layers[li];
@@ -206,7 +212,21 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
     double nominal = theta;
     if (info.main_axis == 1 && nominal <= 0.0) nominal += 180.0;
     info.width = info.main_axis == 0 ? ly * c : lx * s;
-    const int n = std::max(1, (int) std::lround(info.width * info.chains_per_width_target));
+    const double target_chains = info.width * info.chains_per_width_target;
+    const std::string layer_is = at(card.path, spec.line) + ": layer " + std::to_string(layer) +
+        " (areal_weight " + num(spec.areal_weight * 1e3) + " g/m^2)";
+    if (!(target_chains <= MAX_CHAINS))
+      throw InputError(layer_is + " needs " + num(target_chains) +
+                       " chains across the RVE, more than the limit of " + num(MAX_CHAINS) +
+                       " per layer: check the keys 'areal_weight', 'rve', 'gauge' and "
+                       "'stitch_length'");
+    const int n = std::max(1, (int) std::lround(target_chains));
+    if (std::fabs(n / target_chains - 1.0) > MAX_CHAIN_ROUNDING)
+      throw InputError(layer_is + " needs " + num(target_chains) + " chains across the RVE; the " +
+                       std::to_string(n) + " whole chains that fit would give an areal weight " +
+                       num(100.0 * (n / target_chains - 1.0)) + " % off (more than " +
+                       num(100.0 * MAX_CHAIN_ROUNDING) +
+                       " %): make the RVE wider with the key 'rve'");
     info.chains = n;
 
     // chain angles: Gaussian around the nominal angle
@@ -248,7 +268,18 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
         p0[1] = 0.0;
         len = ly / dir[1];
       }
-      const int nseg = std::max(2, (int) std::lround(len / card.fibre_mesh));
+      fibre_nodes += std::max(2.0, std::round(len / card.fibre_mesh));
+      if (!(fibre_nodes <= MAX_NODES))
+        throw InputError(at(card.path, line_of("fibre_mesh", "stitch_length")) +
+                         ": the chains of layer " + std::to_string(layer) + " need more than " +
+                         std::to_string((long long) MAX_NODES) + " nodes (RVE " + num(lx) + " x " +
+                         num(ly) + " m, fibre_mesh " + num(card.fibre_mesh) +
+                         " m): check the keys 'rve', 'stitch_length', 'gauge' and 'fibre_mesh'");
+      int nseg = std::max(2, (int) std::lround(len / card.fibre_mesh));
+      // the rounding may make the elements shorter than fibre_mesh: never shorter than the
+      // chain diameter (elements i and i + 2 of a straight chain would touch), so that every
+      // fibre_mesh >= chain_diameter works (the count changes only where that happened)
+      while (nseg > 2 && len / nseg < dc * (1.0 + 1e-9)) nseg--;
       const double h = len / nseg;
       // nodes half an element in from the main faces: the end caps of a chain and of its
       // continuation through the opposite face are one element apart
@@ -390,6 +421,13 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
     info.node_mass = card.mass_scaling * mass / info.nodes;
     info.dt_crit =
         info.min_l0 * std::sqrt(info.chain.density * card.mass_scaling / info.chain.modulus);
+    if (!(std::isfinite(info.node_mass) && info.node_mass > 0.0 && std::isfinite(info.dt_crit) &&
+          info.dt_crit > 0.0))
+      throw InputError(at(card.path, line_of("mass_scaling", "fibre_mesh")) +
+                       ": key 'mass_scaling': value " + num(card.mass_scaling) + " gives layer " +
+                       std::to_string(layer) + " a node mass of " + num(info.node_mass) +
+                       " kg and a critical time step of " + num(info.dt_crit) +
+                       " s, not finite numbers > 0");
     double mean = 0.0, var = 0.0;
     for (double a : info.angles) mean += a;
     mean /= n;
@@ -415,8 +453,8 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   const double dy = y.chain.diameter, ry = 0.5 * dy;
   if (card.yarn_mesh < dy)
     throw InputError(at(card.path, line_of("yarn_mesh", "yarn")) + ": key 'yarn_mesh': value " +
-                     std::to_string(card.yarn_mesh) + " m is shorter than the yarn diameter " +
-                     std::to_string(dy) + " m");
+                     num(card.yarn_mesh) + " m is shorter than the yarn diameter " + num(dy) +
+                     " m");
   // the yarn wraps the compacted mat 0 <= z <= sum t_L, touching its faces
   const double zb = -ry * (1.0 + MARGIN), zt = f.thickness + ry * (1.0 + MARGIN);
   const double zloop = card.loops_bottom ? zb : zt, zunder = card.loops_bottom ? zt : zb;
@@ -431,10 +469,23 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   const double e = y.leg_offset;
   if (2.0 * e + dy >= f.course)
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
-                     "': yarn diameter " + std::to_string(dy) +
+                     "': yarn diameter " + num(dy) +
                      " m is too large for the stitch length (legs of neighbouring holes overlap)");
   const std::vector<int> &needle = card.pattern.needle;
   const int p = card.pattern.repeat;
+  // the yarn nodes and the needles, counted before any is made
+  {
+    const double legs = 2.0 * std::fabs(zloop - zunder) / dy, loop = (f.course - 2.0 * e) / dy;
+    const double under = std::hypot(2.0 * e, (double) kmax * f.needle_spacing) / dy;
+    const double yarn_nodes = (double) card.r_w * f.courses * (legs + loop + under + 4.0);
+    if (!(yarn_nodes <= MAX_NODES) || !((double) f.courses * card.r_w <= MAX_NODES))
+      throw InputError(
+          at(card.path, line_of("rve", "stitch_length")) + ": the stitching yarn needs about " +
+          std::to_string((long long) std::min(yarn_nodes, 1e18)) + " nodes for " +
+          std::to_string((long long) f.courses * card.r_w) + " stitches, more than the limit of " +
+          std::to_string((long long) MAX_NODES) +
+          ": check the keys 'rve', 'stitch_length', 'gauge' and 'pattern'");
+  }
   y.yarns = card.r_w;
   double total_length = 0.0;    // of all yarns
   y.min_l0 = 1e300;
@@ -501,6 +552,12 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   y.areal_weight = y.chain.mass_per_length * total_length / (lx * ly);
   y.node_mass = card.mass_scaling * y.chain.mass_per_length * total_length / y.nodes;
   y.dt_crit = y.min_l0 * std::sqrt(y.chain.density * card.mass_scaling / y.chain.modulus);
+  if (!(std::isfinite(y.node_mass) && y.node_mass > 0.0 && std::isfinite(y.dt_crit) &&
+        y.dt_crit > 0.0))
+    throw InputError(
+        at(card.path, line_of("mass_scaling", "yarn")) + ": key 'mass_scaling': value " +
+        num(card.mass_scaling) + " gives the stitching yarn a node mass of " + num(y.node_mass) +
+        " kg and a critical time step of " + num(y.dt_crit) + " s, not finite numbers > 0");
 
   // ---------------------------------------------------------------- needles: every stitching point
   for (int c = 0; c < f.courses; c++)
@@ -523,7 +580,7 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
   if (cl.gap < 0.0 || cy.gap < 0.0)
     throw InputError(card.path + ": internal check failed: generated " +
                      (cl.gap < 0.0 ? "chains" : "yarn segments") + " overlap by " +
-                     std::to_string(-std::min(cl.gap, cy.gap)) +
+                     num(-std::min(cl.gap, cy.gap)) +
                      " m; please report this card as a bug of ncf-gen");
   return f;
 }

@@ -60,8 +60,10 @@ namespace {
     char *end = nullptr;
     errno = 0;
     const double v = std::strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+    if (end == s || *end != '\0' || (errno != ERANGE && !std::isfinite(v)))
       fail(where, "key '" + key + "': value '" + text + "' is not a number");
+    if (errno == ERANGE)
+      fail(where, "key '" + key + "': value '" + text + "' is out of the range of a double");
     return v;
   }
 

@@ -7,10 +7,14 @@
 #include "ncfgen.h"
 #include "ncfgen_geom.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <cstring>
 #include <map>
 
 namespace NCFGEN {
@@ -345,15 +349,51 @@ bool generate(const std::string &card_path, const std::string &prefix, std::stri
     error = e.what();
     return false;
   }
-  // everything is in memory: write it out (a failure here may leave earlier files behind)
+  // everything is in memory: write every file under a temporary name next to its final one,
+  // then rename them all; a failure on the way removes what was written, so that a failed run
+  // leaves no output (and keeps the files of an earlier run intact until everything is ready)
   for (auto &file : out.files) {
-    std::ofstream o(file.first, std::ios::binary);
-    if (!o || !(o << file.second) || !(o.flush())) {
-      error = file.first + ": cannot write the output file";
+    struct stat st;
+    if (stat(file.first.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+      error = file.first +
+          ": cannot write the output file: the name is a folder; nothing was "
+          "written";
       return false;
     }
-    if (summary && file.first == prefix + ".summary") *summary = file.second;
   }
+  const std::string tmp_suffix = ".tmp-ncf-gen-" + std::to_string((long) getpid());
+  std::vector<std::string> temps;
+  auto remove_temps = [&]() {
+    for (const auto &t : temps) std::remove(t.c_str());
+  };
+  for (auto &file : out.files) {
+    const std::string tmp = file.first + tmp_suffix;
+    FILE *fp = std::fopen(tmp.c_str(), "wb");
+    if (fp) temps.push_back(tmp);
+    const bool ok =
+        fp && std::fwrite(file.second.data(), 1, file.second.size(), fp) == file.second.size();
+    const bool closed = fp && std::fclose(fp) == 0;
+    if (!ok || !closed) {
+      const int err = errno;
+      remove_temps();
+      error = file.first + ": cannot write the output file (" + std::strerror(err) +
+          "); nothing was written";
+      return false;
+    }
+  }
+  for (std::size_t k = 0; k < out.files.size(); k++) {
+    if (std::rename(temps[k].c_str(), out.files[k].first.c_str()) != 0) {
+      const int err = errno;
+      for (std::size_t q = k; q < temps.size(); q++) std::remove(temps[q].c_str());
+      error = out.files[k].first + ": cannot rename " + temps[k] + " to it (" + std::strerror(err) +
+          ")" +
+          (k ? "; the files before it in the list were already written" : "; nothing was written");
+      return false;
+    }
+  }
+  if (summary)
+    for (auto &file : out.files)
+      if (file.first == prefix + ".summary") *summary = file.second;
   return true;
 }
 

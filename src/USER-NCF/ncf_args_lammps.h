@@ -1,0 +1,109 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   USER-NCF: checked reading of style arguments (LAMMPS-side, included by styles only).
+
+   Each reader takes `what`, the style as the user wrote it ("fix ncf/plate",
+   "bond_coeff ncf/chain", ...), the keyword and the text of the value, and stops with
+   error->all naming all three when the value is not what the keyword needs. The numbers go
+   through utils::numeric/inumeric after the text has been checked, so that no message is the
+   generic one of LAMMPS ("Expected floating point parameter ...") without the keyword.
+------------------------------------------------------------------------- */
+
+#ifndef NCF_ARGS_LAMMPS_H
+#define NCF_ARGS_LAMMPS_H
+
+#include "error.h"
+#include "lammps.h"
+#include "utils.h"
+
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+namespace NCF_LMP {
+
+// a finite number (is_double rejects words such as nan and inf; 1e999 reads as inf and is refused)
+inline double number(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                     const char *text)
+{
+  if (!LAMMPS_NS::utils::is_double(text))
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' is not a number", what, text, key);
+  // (out of the range of a double: refused here, before utils::numeric gives its own message)
+  if (!std::isfinite(std::strtod(text, nullptr)))
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' is not a finite number", what, text, key);
+  return LAMMPS_NS::utils::numeric(FLERR, text, false, lmp);
+}
+
+// an integer in [lo, hi]
+inline long long integer(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                         const char *text, long long lo, long long hi)
+{
+  if (!LAMMPS_NS::utils::is_integer(text))
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' is not an integer", what, text, key);
+  // (out of the range of a 64-bit integer: refused here, before utils::bnumeric's own message)
+  errno = 0;
+  const long long big = std::strtoll(text, nullptr, 10);
+  if (errno == ERANGE || big < lo || big > hi)
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' must be an integer in [{}, {}]", what, text, key,
+                    lo, hi);
+  const long long v = LAMMPS_NS::utils::bnumeric(FLERR, text, false, lmp);
+  if (v < lo || v > hi)
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' must be an integer in [{}, {}]", what, text, key,
+                    lo, hi);
+  return v;
+}
+
+// yes/no, on/off, true/false, 1/0
+inline bool logical(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                    const char *text)
+{
+  const std::string v = text;
+  if (v != "yes" && v != "on" && v != "true" && v != "1" && v != "no" && v != "off" &&
+      v != "false" && v != "0")
+    lmp->error->all(FLERR, "{}: value '{}' of '{}' is not one of yes, no", what, text, key);
+  return LAMMPS_NS::utils::logical(FLERR, text, false, lmp) != 0;
+}
+
+// a type or a range of types within 1..n: N, *, N*, *M, N*M (as utils::bounds, but the message
+// names the style and the keyword)
+inline void types(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                  const char *text, int n, int &lo, int &hi)
+{
+  const std::string s = text;
+  const auto star = s.find('*');
+  auto part = [&](const std::string &p, int dflt, bool &ok) {
+    if (p.empty()) return dflt;
+    if (!LAMMPS_NS::utils::is_integer(p)) {
+      ok = false;
+      return 0;
+    }
+    errno = 0;
+    if (std::strtoll(p.c_str(), nullptr, 10) < INT_MIN || errno == ERANGE ||
+        std::strtoll(p.c_str(), nullptr, 10) > INT_MAX) {
+      ok = false;
+      return 0;
+    }
+    return (int) LAMMPS_NS::utils::bnumeric(FLERR, p, false, lmp);
+  };
+  bool ok = !s.empty();
+  if (star == std::string::npos) {
+    lo = hi = part(s, 0, ok);
+    ok = ok && !s.empty();
+  } else {
+    if (s.find('*', star + 1) != std::string::npos) ok = false;
+    lo = part(s.substr(0, star), 1, ok);
+    hi = part(s.substr(star + 1), n, ok);
+  }
+  if (!ok || lo > hi)
+    lmp->error->all(FLERR, "{}: {} '{}' is not a type or a range of types within 1-{}", what, key,
+                    text, n);
+  // (in the words of utils::bounds)
+  if (lo < 1 || hi > n)
+    lmp->error->all(FLERR, "{}: {} '{}': Numeric index {} is out of bounds (1-{})", what, key, text,
+                    lo < 1 ? lo : hi, n);
+}
+
+}    // namespace NCF_LMP
+
+#endif
