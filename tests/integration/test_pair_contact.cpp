@@ -522,22 +522,41 @@ TEST(PairContact, NoHistoryWithoutFriction)
   }
 }
 
+// fatom yes: the magnitude of every node's contact force (d_ncf_fcontact) is that of the force on
+// it (the bonds are at their reference lengths), in a closed box and with the crossing moved
+// across the periodic faces (contacts with ghost images, whose forces go back to their owners)
 TEST(PairContact, PerAtomContactForceForDumps)
 {
   auto dir = scratch_dir("contact_fatom");
-  Lammps l;
-  l.cmds(setup(write_data(dir + "/a.data", crossed(0.9 * DIAM), Box(), NODE_MASS), "f f f",
-               "pair_coeff * * kn 1e8 diameter 69e-6", "pair_style ncf/contact fatom yes"));
-  l.cmd("run 0");
-  l.cmd("variable fc atom d_ncf_fcontact");
-  l.cmd("compute fsum all reduce sum v_fc");
-  auto f = l.forces();
-  double expect = 0.0;
-  for (size_t i = 0; i < f.size(); i += 3)
-    expect += std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]);
-  l.cmd("run 0");
-  EXPECT_NEAR(l.value("c_fsum"), expect, 1e-12 * expect);
-  EXPECT_GT(expect, 0.0);
+  Box box;
+  for (int d = 0; d < 3; d++) box.lo[d] = -1.5e-3, box.hi[d] = 1.5e-3;
+  const std::array<double, 3> across{1.5e-3, 1.5e-3, 0.0};
+  for (int periodic = 0; periodic < 2; periodic++) {
+    SCOPED_TRACE(periodic ? "across the periodic faces" : "closed box");
+    Lammps l;
+    const auto chains = periodic ? crossed(0.9 * DIAM, across) : crossed(0.9 * DIAM);
+    l.cmds(
+        setup(write_data(dir + "/a" + std::to_string(periodic) + ".data", chains, box, NODE_MASS),
+              periodic ? "p p f" : "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
+              "pair_style ncf/contact fatom yes"));
+    l.cmd("run 0");
+    ASSERT_EQ(l.value("c_pc[1]"), 4.0);
+    const auto f = l.forces();
+    LAMMPS_NS::Atom *atom = l.lmp->atom;
+    int flag = -1, cols = -1;
+    const int idx = atom->find_custom("ncf_fcontact", flag, cols);
+    ASSERT_GE(idx, 0);
+    std::vector<double> fc(f.size() / 3, -1.0);
+    for (int i = 0; i < atom->nlocal; i++) fc[atom->tag[i] - 1] = atom->dvector[idx][i];
+    int touched = 0;
+    for (size_t i = 0; i < fc.size(); i++) {
+      const double mag = std::sqrt(f[3 * i] * f[3 * i] + f[3 * i + 1] * f[3 * i + 1] +
+                                   f[3 * i + 2] * f[3 * i + 2]);
+      EXPECT_NEAR(fc[i], mag, 1e-12 * std::fabs(f[3 * 5 + 2])) << "atom " << i + 1;
+      touched += mag > 0.0;
+    }
+    EXPECT_GE(touched, 4);
+  }
 }
 
 // fix ncf/contact/history (created by the pair style) writes the friction history into the
