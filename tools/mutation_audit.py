@@ -16,11 +16,13 @@ of the script puts back first if a previous run was killed outright.
 
 Usage (from anywhere; nice it, it takes a while):
   nice -n 15 /usr/bin/python3 tools/mutation_audit.py [--build DIR] [-j N] [--only ID,ID]
-                                                      [--list] [--baseline]
+                                                      [--list] [--baseline] [--timeout S]
   --build     the build folder (default $NCF_BUILD, else ./build); configured by tools/setup.sh
   --only      run these mutations only (ids, comma separated)
   --list      print the mutations and exit
   --baseline  first run all the regexes without a mutation (they must pass)
+  --timeout   seconds one test may run under a mutation (default 300; a hang counts as killed,
+              as the test's own ctest TIMEOUT would fail it)
 Results: printed, and written to <build>/mutation-audit/results.txt (one line per mutation, then
 the summary); the logs of the builds and tests of each mutation under <build>/mutation-audit/.
 Exit status 0 when every mutation was killed, 1 otherwise.
@@ -281,13 +283,27 @@ def targets_for(names):
 
 
 def run(cmd, cwd, log, timeout):
+    """Runs cmd in a session of its own; on a timeout or an interrupt the whole session (ctest,
+    mpiexec and its ranks) is killed, not only its leader."""
     with open(log, "w") as f:
+        p = subprocess.Popen(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, start_new_session=True)
         try:
-            p = subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, timeout=timeout)
-            return p.returncode
+            return p.wait(timeout=timeout)
         except subprocess.TimeoutExpired:
             f.write(f"\n[audit] timed out after {timeout} s\n")
             return 124
+        finally:
+            if p.poll() is None:
+                for sig in (signal.SIGTERM, signal.SIGKILL):
+                    try:
+                        os.killpg(p.pid, sig)
+                    except ProcessLookupError:
+                        break
+                    try:
+                        p.wait(timeout=10)
+                        break
+                    except subprocess.TimeoutExpired:
+                        pass
 
 
 def failed_tests(log):
@@ -308,6 +324,8 @@ def main():
     ap.add_argument("--only", default="")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--baseline", action="store_true")
+    ap.add_argument("--timeout", type=int, default=300,
+                    help="seconds one test may run under a mutation (a hang counts as killed)")
     args = ap.parse_args()
 
     chosen = M
@@ -357,7 +375,9 @@ def main():
         rank = {"unit": 0, "integration": 1, "mpi": 2}
         for n in sorted(names, key=lambda n: (rank.get(n.split(".")[0], 3), n)):
             rc = run(["ctest", "-R", "^" + re.escape(n) + "$", "-j1", "--output-on-failure"], build, tlog,
-                     2400)
+                     args.timeout)
+            if rc == 124:
+                return "FAILED", [n + "[timeout]"], names
             if rc != 0:
                 return "FAILED", failed_tests(tlog) or [n], names
         return "PASSED", [], names
