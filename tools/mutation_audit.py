@@ -188,8 +188,8 @@ mut("friction-cap", "ncf_contact.cpp", "const double fm2 = norm2(f), cap = mu * 
     "const double fm2 = norm2(f), cap = fn;", CONTACT, "Coulomb limit without mu")
 mut("tangential-reaction", "ncf_contact.cpp", "  c.f[3] -= c.t * ftot;\n", "  c.f[3] += c.t * ftot;\n",
     CONTACT, "tangential force on B1 with the wrong sign")
-mut("contact-dt-factor", "ncf_contact.cpp", "return 2.0 * std::sqrt(mass / (kn * length));",
-    "return std::sqrt(mass / (kn * length));", CONTACT, "critical time step of the contacts halved")
+mut("contact-dt-factor", "pair_ncf_contact.cpp", "omega2 = MAX(omega2, 2.0 * knmax * len / m);",
+    "omega2 = MAX(omega2, knmax * len / m);", CONTACT, "critical time step of the contacts off by sqrt(2)")
 mut("list-key-order", "pair_ncf_contact_list.cpp",
     "return (b.k0 > ta) | ((b.k0 == ta) & (b.k1 > tpa));", "return (b.k0 != ta) | (b.k1 != tpa);",
     CONTACT, "segment pairs listed from both segments (double counting)")
@@ -230,6 +230,13 @@ mut("history-takeover", "pair_ncf_contact_history.cpp",
 mut("history-defer", "pair_ncf_contact_history.cpp", "if (m >= atom->nlocal && local_only) return false;",
     "if (false && local_only) return false;", CONTACT,
     "take-over from a ghost's row not deferred until the rows are communicated")
+mut("history-exchange", "fix_ncf_contact_history.cpp",
+    "  if (PairNCFContact *p = pair()) p->sync_history();\n", "", CONTACT,
+    "friction history not written to the per-atom store before atoms migrate")
+mut("history-restart-step", "fix_ncf_contact_history.cpp",
+    "if (update->ntimestep == output->next_restart) pre_exchange();",
+    "if (update->ntimestep == output->next_restart + 1) pre_exchange();", CONTACT,
+    "restart file written during a run without the history of its step")
 mut("batch-spring-energy", "ncf_contact_batch.cpp",
     "const double energy = 0.5 * (fx * fx + fy * fy + fz * fz) / kts;",
     "const double energy = (fx * fx + fy * fy + fz * fz) / kts;", CONTACT,
@@ -308,8 +315,8 @@ def run(cmd, cwd, log, timeout):
 
 def failed_tests(log):
     """The ctest tests that failed, each with the GoogleTest cases that failed in it."""
-    with open(log) as f:
-        text = f.read()
+    with open(log, errors="replace") as f:
+        text = re.sub(r"\x1b\[[0-9;]*m", "", f.read())    # (GoogleTest colours under mpirun)
     tests = re.findall(r"\d+ - (\S+) \((?:Failed|Timeout|SEGFAULT|Subprocess aborted|Exception)[^)]*\)", text)
     cases = sorted(set(re.findall(r"^\[  FAILED  \] (\w[\w/.]*\.\w[\w/]*)(?: \(\d+ ms\))?$", text, re.M)))
     if "Timeout" in text and re.search(r"\(Timeout\)", text):
