@@ -208,6 +208,31 @@ TEST(PairContact, NodeMovingMoreThanHalfTheSkinBetweenBuildsStops)
   }
 }
 
+// A pair of segments enters the lists at a build when its gap could close before the next one
+// (nodes move at most skin/2 each): two chains crossing 0.9 skin apart, moved towards each other
+// by 0.475 skin each in 99 steps (fix move, no reneighbouring in between), are in contact at the
+// end, as the brute-force law says
+TEST(PairContact, PairsThatCanCloseWithinTheSkinAreListed)
+{
+  auto dir = scratch_dir("contact_closing");
+  const double skin = 2e-5, dt = 1e-9, v = 0.48 * skin / (100 * dt);
+  const auto chains = crossed(DIAM + 0.9 * skin);
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/c.data", chains, Box(), NODE_MASS)));
+  l.cmd("neigh_modify every 1000 delay 0 check no");
+  l.cmd("group lower molecule 1");
+  l.cmd("group upper molecule 2");
+  l.cmd(fmt::format("fix up lower move linear 0 0 {:.17g}", v));
+  l.cmd(fmt::format("fix down upper move linear 0 0 {:.17g}", -v));
+  l.cmd(fmt::format("timestep {}", dt));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("c_pc[1]"), 0.0);
+  l.cmd("run 99");
+  const Brute ref = brute_force(chains, l.positions(), 1e300, KN);
+  ASSERT_GT(ref.contacts, 0);
+  EXPECT_EQ(l.value("c_pc[1]"), ref.contacts);
+}
+
 TEST(PairContact, SameForcesAcrossPeriodicBoundary)
 {
   // the crossing scene in the middle of a periodic box and shifted so that the crossing and
