@@ -84,15 +84,15 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
   endface_name = "ncf_end";
   parse(narg, arg);
 
-  if (domain->triclinic && (domain->xy != 0.0 || domain->xz != 0.0 || domain->yz != 0.0))
-    error->all(FLERR,
-               "fix ncf/pbc: the box must be orthogonal when the fix is defined "
-               "(a tilt may develop later, e.g. by fix deform)");
   for (int p = 0; p < 2; p++)
     if (pair_on[p] && !domain->periodicity[p])
       error->all(FLERR, "fix ncf/pbc: faces {} need a periodic box in {}", p ? "y" : "x",
                  p ? "y" : "x");
-  capture_reference();
+  // the reference is captured in an orthogonal box; in a tilted one only a restart file can give
+  // it (restart(), right after this constructor), otherwise init() stops
+  tilted_at_definition =
+      domain->triclinic && (domain->xy != 0.0 || domain->xz != 0.0 || domain->yz != 0.0);
+  if (!tilted_at_definition) capture_reference();
 }
 
 /* ----------------------------------------------------------------------
@@ -338,6 +338,10 @@ int FixNCFPBC::setmask()
 
 void FixNCFPBC::init()
 {
+  if (tilted_at_definition)
+    error->all(FLERR,
+               "fix ncf/pbc: the box must be orthogonal when the fix is defined "
+               "(a tilt may develop later, e.g. by fix deform; a restart file keeps the reference)");
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "fix ncf/pbc needs an atom map (atom_modify map array or hash)");
   for (auto &e : nodes)
@@ -553,6 +557,7 @@ void FixNCFPBC::restart(char *raw)
     for (double &l : lambda_last) l = buf[m++];
   }
   finish_groups();
+  tilted_at_definition = false;
   if (comm->me == 0)
     utils::logmesg(
         lmp,

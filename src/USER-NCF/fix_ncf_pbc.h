@@ -65,6 +65,9 @@ class FixNCFPBC : public Fix {
   // through a restart file) is the same run
   std::vector<double> lambda_last;
   bigint lambda_step;
+  // defined in a tilted box: no reference captured; an error at init unless a restart file
+  // restored one (a restart written after a shear by fix deform)
+  bool tilted_at_definition = false;
 
   void parse(int, char **);
   void capture_reference();

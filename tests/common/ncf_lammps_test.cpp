@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -213,6 +214,20 @@ void on_ranks(int n, const std::function<void(MPI_Comm)> &f)
     // an error on some ranks must not leave the others waiting in the barrier below
     try {
       f(comm);
+    } catch (LAMMPS_NS::LAMMPSAbortException &e) {
+      // error->one: raised on some ranks of the instance only, while the others wait for them
+      // in a collective call that never ends; stop the whole test at once (as LAMMPS does)
+      int size;
+      MPI_Comm_size(comm, &size);
+      if (size > 1) {
+        std::fprintf(
+            stderr,
+            "on %d rank(s), world rank %d: %s\n[aborting: the other ranks would wait forever]\n", n,
+            world_rank(), e.what());
+        std::fflush(stderr);
+        MPI_Abort(MPI_COMM_WORLD, 1);
+      }
+      ADD_FAILURE() << "on " << n << " rank(s), world rank " << world_rank() << ": " << e.what();
     } catch (std::exception &e) {
       ADD_FAILURE() << "on " << n << " rank(s), world rank " << world_rank() << ": " << e.what();
     }

@@ -25,9 +25,10 @@ using ::testing::HasSubstr;
 namespace {
 
 // A data file with n atoms in a straight chain along x, spacing a, reference lengths l0
-// (NCF_CHAIN_L0 section) and the given box.
+// (NCF_CHAIN_L0 section: with the lower tag of each bond, or with the higher one if on_upper)
+// and the given box.
 std::string write_chain_data(const std::string &dir, int n, double a, double l0, double mass,
-                             bool with_l0 = true, double box = 0.0)
+                             bool with_l0 = true, double box = 0.0, bool on_upper = false)
 {
   const std::string path = dir + "/chain.data";
   FILE *fp = fopen(path.c_str(), "w");
@@ -41,7 +42,10 @@ std::string write_chain_data(const std::string &dir, int n, double a, double l0,
   if (with_l0) {
     fprintf(fp, "\nNCF_CHAIN_L0\n\n");
     for (int i = 1; i <= n; i++)
-      fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0 : 0.0);
+      if (on_upper)
+        fprintf(fp, "%d %d 0 %.17g 0\n", i, i > 1 ? -1 : 0, i > 1 ? l0 : 0.0);
+      else
+        fprintf(fp, "%d %d 0 %.17g 0\n", i, i < n ? 1 : 0, i < n ? l0 : 0.0);
   }
   fclose(fp);
   return path;
@@ -72,21 +76,25 @@ TEST(BondChain, PluginIsListedWithVersionAndRevision)
   EXPECT_TRUE(found) << "bond ncf/chain not registered by the auto-loaded plugin";
 }
 
+// (the L0 of a bond stored with either of its atoms)
 TEST(BondChain, AnalyticForceAndEnergy)
 {
-  auto dir = scratch_dir("bond_analytic");
-  const double a = 2.1e-4, l0 = 2.0e-4, ea = 448.7;
-  auto data = write_chain_data(dir, 2, a, l0, 1e-9);
-  Lammps l;
-  l.cmds(SETUP);
-  l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
-  l.cmd("bond_coeff 1 ea 448.7");
-  l.cmd("run 0");
-  auto f = l.forces();
-  const double axial = ea * (a - l0) / l0;
-  EXPECT_NEAR(f[0], axial, 1e-9 * axial);    // node 1 pulled towards node 2 (+x)
-  EXPECT_NEAR(f[3], -axial, 1e-9 * axial);
-  EXPECT_NEAR(l.value("ebond"), 0.5 * ea / l0 * (a - l0) * (a - l0), 1e-12 * axial * a);
+  for (bool on_upper : {false, true}) {
+    SCOPED_TRACE(on_upper ? "L0 with the higher tag" : "L0 with the lower tag");
+    auto dir = scratch_dir("bond_analytic");
+    const double a = 2.1e-4, l0 = 2.0e-4, ea = 448.7;
+    auto data = write_chain_data(dir, 2, a, l0, 1e-9, true, 0.0, on_upper);
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + data + " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0");
+    l.cmd("bond_coeff 1 ea 448.7");
+    l.cmd("run 0");
+    auto f = l.forces();
+    const double axial = ea * (a - l0) / l0;
+    EXPECT_NEAR(f[0], axial, 1e-9 * axial);    // node 1 pulled towards node 2 (+x)
+    EXPECT_NEAR(f[3], -axial, 1e-9 * axial);
+    EXPECT_NEAR(l.value("ebond"), 0.5 * ea / l0 * (a - l0) * (a - l0), 1e-12 * axial * a);
+  }
 }
 
 TEST(BondChain, FiniteDifferenceForce)

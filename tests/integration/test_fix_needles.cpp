@@ -48,9 +48,10 @@ bond_style ncf/chain
   l.cmd("bond_coeff 1 ea 100");
 }
 
-// independent sum of the kernel over the ring's segments against one needle (point down)
+// independent sum of the kernel over the ring's segments against one needle (point down); the
+// contact energy summed into *energy if given
 NCF::Vec3 kernel_force_on_needle(int n, double a, double y0, double nxp, double nyp, double ztip,
-                                 double len, double tip)
+                                 double len, double tip, double *energy = nullptr)
 {
   NCF::Vec3 fsum;
   for (int i = 0; i < n; i++) {
@@ -69,6 +70,7 @@ NCF::Vec3 kernel_force_on_needle(int n, double a, double y0, double nxp, double 
     nd.length = len;
     auto c = NCF::needle_contact(a0, a1, 0.5 * DC, nd, KN);
     fsum += c.fneedle;
+    if (energy && c.active) *energy += c.energy;
   }
   return fsum;
 }
@@ -86,7 +88,8 @@ TEST(FixNeedles, ForceMatchesTheKernelAndBalances)
   l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at {} {} move -1e-4 0 length 1.5e-3 tip 1e-4",
                     DN, KN, DC, 2.0e-3, y0 + off));
   l.cmd("run 0");
-  auto expect = kernel_force_on_needle(n, a, y0, 2.0e-3, y0 + off, -1e-4, 1.5e-3, 1e-4);
+  double energy = 0.0;
+  auto expect = kernel_force_on_needle(n, a, y0, 2.0e-3, y0 + off, -1e-4, 1.5e-3, 1e-4, &energy);
   ASSERT_GT(std::fabs(expect.y), 1e-6);    // the needle really touches the segment between nodes
   EXPECT_NEAR(l.value("f_nd[1][2]"), expect.y, 1e-9 * std::fabs(expect.y));
   EXPECT_NEAR(l.value("f_nd[1][1]"), expect.x, 1e-9 * std::fabs(expect.y));
@@ -95,8 +98,17 @@ TEST(FixNeedles, ForceMatchesTheKernelAndBalances)
   double fy = 0;
   for (int i = 0; i < n; i++) fy += f[3 * i + 1];
   EXPECT_NEAR(fy, -expect.y, 1e-9 * std::fabs(expect.y));
-  EXPECT_LT(fy, 0.0);                  // the chain is pushed away from the needle (at +y)
+  EXPECT_LT(fy, 0.0);                    // the chain is pushed away from the needle (at +y)
   EXPECT_EQ(l.value("f_nd[3]"), 1.0);    // one segment, touched between its nodes
+  // the fix's energy (its scalar) is the kernel's, and its gradient the force on the nodes
+  ASSERT_GT(energy, 0.0);
+  EXPECT_NEAR(l.value("f_nd"), energy, 1e-9 * energy);
+  const auto x0 = l.positions();
+  for (int id : {2, 3})
+    EXPECT_NEAR(f[3 * (id - 1) + 1],
+                -l.energy_derivative("f_nd", id, 1, x0[3 * (id - 1) + 1], 1e-9),
+                1e-5 * std::fabs(expect.y))
+        << "atom " << id;
 }
 
 TEST(FixNeedles, NeedleAcrossThePeriodicBoundary)

@@ -226,6 +226,62 @@ run 500
   EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
 }
 
+// A restart file written after a box deformation (stretch and shear): the fix, defined again in
+// the tilted box, takes its reference from the file, and the constraint keeps its targets F D_g
+// with F relative to the reference box of the start (not the box of the restart): the same
+// trajectory
+TEST(FixPBC, RestartAfterABoxDeformation)
+{
+  auto dir = scratch_dir("pbc_restart_deform");
+  auto mat = write_mat(dir, 3.0, 15);
+  std::vector<double> straight, xref;
+  double href[6], h[6];
+  {
+    Lammps l;
+    load_mat(l, mat);
+    l.cmd("change_box all triclinic");
+    xref = l.positions();
+    box_h(l, href);
+    l.cmds(R"(
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix deform all deform 1 x erate 2000 xy erate 4000 remap x
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+run 500
+unfix deform
+)");
+    l.cmd("write_restart " + dir + "/deformed.restart");
+    l.cmd("run 300");
+    straight = l.positions();
+    box_h(l, h);
+  }
+  EXPECT_GT(h[0], LX * 1.004);    // the box was stretched and sheared before the restart
+  EXPECT_GT(std::fabs(h[5]), 1e-6);
+  Lammps r;
+  r.cmd("read_restart " + dir + "/deformed.restart");
+  r.cmds(R"(
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+run 300
+)");
+  // (to round-off: LAMMPS wraps the atoms of a tilted box through its lamda coordinates at the
+  // setup of the resumed run, which changes the last bits of their positions)
+  const auto x = r.positions();
+  EXPECT_LT(max_abs_diff(x, straight), 1e-12 * LX);
+  EXPECT_LT(constraint_error(xref, x, face_codes(mat), href, h), 1e-10 * LX);
+  // a new fix in the tilted box has no reference to start from
+  r.cmd("unfix pbc");
+  r.cmd("fix pbc2 ends ncf/pbc faces x");
+  EXPECT_THAT(error_of([&] { r.cmd("run 0"); }),
+              HasSubstr("fix ncf/pbc: the box must be orthogonal when the fix is defined"));
+}
+
 TEST(FixPBC, MinimizationKeepsTheConstraint)
 {
   auto dir = scratch_dir("pbc_min");

@@ -90,6 +90,39 @@ run 200
   EXPECT_EQ(l.value("f_plate[2]"), 5e-4);
 }
 
+// The plate's velocity in target motion enters the dashpot: resting nodes under an upper plate
+// that moves down onto them at 5 m/s carry kn l g + c l v, moving up kn l g - c l v, and once
+// it has reached its target kn l g (c = damp, l the tributary lengths, 2 A in all)
+TEST(FixPlate, TargetMotionVelocityEntersTheDashpot)
+{
+  auto dir = scratch_dir("plate_target_velocity");
+  const double z = 1e-4, damp = 10.0, speed = 5.0;
+  const double ztop = z + 0.5 * D - 5e-6;    // the upper plate starts 5 um into the nodes
+  const std::string data = write_line(dir, 3, z, 1e-9);
+  struct Case {
+    double target, v;    // where the plate goes; its velocity along the approach
+    int steps;
+  } cases[] = {{0.0, speed, 1}, {1e-3, -speed, 1}, {ztop - 1e-9, 0.0, 3}};
+  for (const Case &c : cases) {
+    SCOPED_TRACE(fmt::format("target {}", c.target));
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + data);
+    l.cmd("bond_coeff 1 ea 10");
+    // no integrator: the nodes stay where they are, at rest
+    l.cmd(fmt::format("fix plate all ncf/plate kn {} damp {} diameter 1 69e-6 "
+                      "upper target {:.17g} {:.17g} {}",
+                      KN, damp, ztop, c.target, speed));
+    l.cmd("timestep 1e-9");
+    l.cmd(fmt::format("run {}", c.steps));
+    const double zp = l.value("f_plate[2]");
+    if (c.v == 0.0) EXPECT_EQ(zp, c.target);
+    const double g = 0.5 * D - (zp - z);
+    ASSERT_GT(g, 4e-6);
+    EXPECT_NEAR(l.value("f_plate[4]"), (KN * g + damp * c.v) * 2 * A, 1e-9 * KN * g * 2 * A);
+  }
+}
+
 TEST(FixPlate, CoulombFrictionSticksThenSlides)
 {
   // a chain pressed on the lower plate by a constant force per node, pulled sideways

@@ -9,6 +9,7 @@
 #include "test_pair_contact_scene.h"
 
 #include "atom.h"
+#include "fmt/format.h"
 #include "force.h"
 #include "lammps.h"
 #include "modify.h"
@@ -135,6 +136,103 @@ TEST(PairContact, EnergyGradientAtFreeChainEnds)
   expect_forces_are_energy_gradient(l, {10, 11, 21, 22}, 22);
 }
 
+// Coefficients of two types not given for the pair 1 2 are mixed: kn as two springs in series,
+// 2 kn1 kn2 / (kn1 + kn2); the forces are those of that kn given explicitly
+TEST(PairContact, MixedStiffnessIsTwoSpringsInSeries)
+{
+  auto dir = scratch_dir("contact_mix");
+  auto chains = crossed(0.9 * DIAM);
+  chains[1].type = 2;
+  const std::string data = write_data(dir + "/m.data", chains, Box(), NODE_MASS, 2);
+  const std::string own =
+      "pair_coeff 1 1 kn 1e8 diameter 69e-6\npair_coeff 2 2 kn 4e8 diameter 69e-6";
+  std::vector<double> f[2];
+  for (int k = 0; k < 2; k++) {
+    Lammps l;
+    l.cmds(setup(data, "f f f", k ? own + "\npair_coeff 1 2 kn 1.6e8 diameter 69e-6" : own));
+    l.cmd("run 0");
+    ASSERT_EQ(l.value("c_pc[1]"), 4.0);
+    f[k] = l.forces();
+  }
+  double fmax = 0.0;
+  for (double v : f[1]) fmax = std::max(fmax, std::fabs(v));
+  EXPECT_GT(fmax, 0.0);
+  EXPECT_LT(max_abs_diff(f[0], f[1]), 1e-12 * fmax);
+}
+
+// The critical time step of the contacts, sqrt(2 m / (kn L)) with L the node's two half
+// segments: a time step 1 % above it stops the run with both numbers, 1 % below runs
+TEST(PairContact, TimestepAboveTheContactCriticalStepIsRefused)
+{
+  auto dir = scratch_dir("contact_dt");
+  const std::string data = write_data(dir + "/c.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  const double dtc = std::sqrt(2.0 * NODE_MASS / (KN * MESH));
+  for (double ratio : {1.01, 0.99}) {
+    Lammps l;
+    l.cmds(setup(data));
+    l.cmd("bond_coeff 1 ea 1e-3");    // (soft bonds: the bonds' own critical step is far above)
+    l.cmd(fmt::format("timestep {:.17g}", ratio * dtc));
+    const std::string err = error_of([&] {
+      l.cmd("run 1");
+    });
+    if (ratio > 1.0) {
+      EXPECT_THAT(err, HasSubstr(fmt::format("is above the critical time step {:.6g}", dtc)));
+    } else {
+      EXPECT_EQ(err, "");
+    }
+  }
+}
+
+// The lists hold while no node has moved more than half the skin since their build: with
+// reneighbouring only every 1000 steps, a chain moved (fix move) by 0.45 skin in 100 steps runs,
+// by 0.75 skin stops with the advice
+TEST(PairContact, NodeMovingMoreThanHalfTheSkinBetweenBuildsStops)
+{
+  auto dir = scratch_dir("contact_skin");
+  const std::string data = write_data(dir + "/c.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  const double skin = 2e-5, dt = 1e-9;
+  for (double frac : {0.45, 0.75}) {
+    Lammps l;
+    l.cmds(setup(data));
+    l.cmd("neigh_modify every 1000 delay 0 check no");
+    l.cmd("group moving molecule 2");
+    l.cmd(fmt::format("fix mv moving move linear {:.17g} 0 0", frac * skin / (100 * dt)));
+    l.cmd(fmt::format("timestep {}", dt));
+    const std::string err = error_of([&] {
+      l.cmd("run 100");
+    });
+    if (frac < 0.5)
+      EXPECT_EQ(err, "");
+    else
+      EXPECT_THAT(err, HasSubstr("more than half the neighbour skin"));
+  }
+}
+
+// A pair of segments enters the lists at a build when its gap could close before the next one
+// (nodes move at most skin/2 each): two chains crossing 0.9 skin apart, moved towards each other
+// by 0.475 skin each in 99 steps (fix move, no reneighbouring in between), are in contact at the
+// end, as the brute-force law says
+TEST(PairContact, PairsThatCanCloseWithinTheSkinAreListed)
+{
+  auto dir = scratch_dir("contact_closing");
+  const double skin = 2e-5, dt = 1e-9, v = 0.48 * skin / (100 * dt);
+  const auto chains = crossed(DIAM + 0.9 * skin);
+  Lammps l;
+  l.cmds(setup(write_data(dir + "/c.data", chains, Box(), NODE_MASS)));
+  l.cmd("neigh_modify every 1000 delay 0 check no");
+  l.cmd("group lower molecule 1");
+  l.cmd("group upper molecule 2");
+  l.cmd(fmt::format("fix up lower move linear 0 0 {:.17g}", v));
+  l.cmd(fmt::format("fix down upper move linear 0 0 {:.17g}", -v));
+  l.cmd(fmt::format("timestep {}", dt));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("c_pc[1]"), 0.0);
+  l.cmd("run 99");
+  const Brute ref = brute_force(chains, l.positions(), 1e300, KN);
+  ASSERT_GT(ref.contacts, 0);
+  EXPECT_EQ(l.value("c_pc[1]"), ref.contacts);
+}
+
 TEST(PairContact, SameForcesAcrossPeriodicBoundary)
 {
   // the crossing scene in the middle of a periodic box and shifted so that the crossing and
@@ -202,30 +300,33 @@ TEST(PairContact, ParallelContactSameForMeshes)
 namespace {
 // a short chain (one segment across, or two along x) pressed with load `load` on a long fixed chain
 // along x (mesh 0.05 mm: many element boundaries), dragged along x at speed v; returns the
-// ratios |F_x| / F_z measured on the fixed chain every `every` steps once sliding
+// ratios |F_x| / F_z measured on the fixed chain every `every` steps once sliding. dir = -1: the
+// mirrored scene, dragged towards -x; slider_first: the slider's tags before the fixed chain's
+// (the contact then moves along the second segment of the pairs, not the first)
 std::vector<double> slide_ratios(const std::string &dir, bool parallel, double mu, int nsteps,
-                                 int every)
+                                 int every, double sense = 1.0, bool slider_first = false)
 {
   const double mesh = 0.05e-3, heavy = 100.0;    // node masses x100 (mass scaling)
   std::vector<Chain> chains = {straight({-1.2e-3, 0, 0}, {1.2e-3, 0, 0}, 48)};
-  const double z = 0.95 * DIAM;
+  const double z = 0.95 * DIAM, s = sense;
   if (parallel)
-    chains.push_back(straight({-0.9e-3 + 0.0111e-3, 0, z}, {-0.7e-3 + 0.0111e-3, 0, z}, 2));
+    chains.push_back(
+        straight({s * (-0.9e-3 + 0.0111e-3), 0, z}, {s * (-0.7e-3 + 0.0111e-3), 0, z}, 2));
   else
-    chains.push_back(straight({-0.8e-3, -1e-4, z}, {-0.8e-3, 1e-4, z}, 1));    // one segment: a
-                                                                               // chain of several
-                                                                               // would drape over B
+    chains.push_back(straight({-s * 0.8e-3, -1e-4, z}, {-s * 0.8e-3, 1e-4, z}, 1));    // one
+        // segment: a chain of several would drape over B
+  if (slider_first) std::swap(chains[0], chains[1]);
   Box box;
   box.lo[0] = -1.5e-3;
   box.hi[0] = 1.5e-3;
   Lammps l;
   l.cmds(setup(write_data(dir + "/s.data", chains, box, heavy * RHO_A * mesh), "f f f",
                fmt::format("pair_coeff * * kn 1e8 mu {} kt 1.0 diameter 69e-6", mu)));
+  l.cmd(fmt::format("group fixed molecule {}", slider_first ? 2 : 1));
+  l.cmd(fmt::format("group slider molecule {}", slider_first ? 1 : 2));
+  l.cmd(fmt::format("fix drag slider move linear {} NULL NULL", 2.0 * s));
   l.cmds(R"(
-group fixed molecule 1
-group slider molecule 2
 fix load slider addforce 0.0 0.0 -0.02
-fix drag slider move linear 2.0 NULL NULL
 fix damp slider viscous 1e-6
 compute fb fixed reduce sum fx fy fz
 timestep 1e-8
@@ -246,19 +347,27 @@ thermo 0
 TEST(PairContact, SlidingFrictionStaysAtMuFnOverManyNodes)
 {
   // 10000 steps at 2 m/s and dt 1e-8: 0.2 mm, across 4 elements of the fixed chain, sampled
-  // every 20 steps (several samples per element, at and between nodes)
+  // every 20 steps (several samples per element, at and between nodes); towards both ends of the
+  // fixed chain, with its tags before and after the slider's (the slip taken over past each of
+  // the four nodes of a pair)
   auto dir = scratch_dir("contact_slide");
   const double mu = 0.3;
-  for (bool parallel : {false, true}) {
-    auto r = slide_ratios(dir, parallel, mu, 10000, 20);
-    double lo = 1e9, hi = 0.0;
-    for (double v : r) {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    EXPECT_GT(lo, 0.98 * mu) << (parallel ? "parallel" : "crossing") << " dip";
-    EXPECT_LT(hi, 1.02 * mu) << (parallel ? "parallel" : "crossing") << " spike";
-  }
+  for (bool parallel : {false, true})
+    for (double sense : {1.0, -1.0})
+      for (bool slider_first : {false, true}) {
+        SCOPED_TRACE(fmt::format("{}, towards {}x, {} first", parallel ? "parallel" : "crossing",
+                                 sense > 0 ? "+" : "-", slider_first ? "slider" : "fixed chain"));
+        auto r = slide_ratios(dir, parallel, mu, 10000, 20, sense, slider_first);
+        double lo = 1e9, hi = 0.0;
+        for (double v : r) {
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+        std::printf("[measured] %s: ratio / mu in [%.5f, %.5f]\n",
+                    parallel ? "parallel" : "crossing", lo / mu, hi / mu);
+        EXPECT_GT(lo, 0.98 * mu) << "dip";
+        EXPECT_LT(hi, 1.02 * mu) << "spike";
+      }
 }
 
 TEST(PairContact, CoulombStickBelowAndSlideAtMuFn)
@@ -522,22 +631,41 @@ TEST(PairContact, NoHistoryWithoutFriction)
   }
 }
 
+// fatom yes: the magnitude of every node's contact force (d_ncf_fcontact) is that of the force on
+// it (the bonds are at their reference lengths), in a closed box and with the crossing moved
+// across the periodic faces (contacts with ghost images, whose forces go back to their owners)
 TEST(PairContact, PerAtomContactForceForDumps)
 {
   auto dir = scratch_dir("contact_fatom");
-  Lammps l;
-  l.cmds(setup(write_data(dir + "/a.data", crossed(0.9 * DIAM), Box(), NODE_MASS), "f f f",
-               "pair_coeff * * kn 1e8 diameter 69e-6", "pair_style ncf/contact fatom yes"));
-  l.cmd("run 0");
-  l.cmd("variable fc atom d_ncf_fcontact");
-  l.cmd("compute fsum all reduce sum v_fc");
-  auto f = l.forces();
-  double expect = 0.0;
-  for (size_t i = 0; i < f.size(); i += 3)
-    expect += std::sqrt(f[i] * f[i] + f[i + 1] * f[i + 1] + f[i + 2] * f[i + 2]);
-  l.cmd("run 0");
-  EXPECT_NEAR(l.value("c_fsum"), expect, 1e-12 * expect);
-  EXPECT_GT(expect, 0.0);
+  Box box;
+  for (int d = 0; d < 3; d++) box.lo[d] = -1.5e-3, box.hi[d] = 1.5e-3;
+  const std::array<double, 3> across{1.5e-3, 1.5e-3, 0.0};
+  for (int periodic = 0; periodic < 2; periodic++) {
+    SCOPED_TRACE(periodic ? "across the periodic faces" : "closed box");
+    Lammps l;
+    const auto chains = periodic ? crossed(0.9 * DIAM, across) : crossed(0.9 * DIAM);
+    l.cmds(
+        setup(write_data(dir + "/a" + std::to_string(periodic) + ".data", chains, box, NODE_MASS),
+              periodic ? "p p f" : "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
+              "pair_style ncf/contact fatom yes"));
+    l.cmd("run 0");
+    ASSERT_EQ(l.value("c_pc[1]"), 4.0);
+    const auto f = l.forces();
+    LAMMPS_NS::Atom *atom = l.lmp->atom;
+    int flag = -1, cols = -1;
+    const int idx = atom->find_custom("ncf_fcontact", flag, cols);
+    ASSERT_GE(idx, 0);
+    std::vector<double> fc(f.size() / 3, -1.0);
+    for (int i = 0; i < atom->nlocal; i++) fc[atom->tag[i] - 1] = atom->dvector[idx][i];
+    int touched = 0;
+    for (size_t i = 0; i < fc.size(); i++) {
+      const double mag = std::sqrt(f[3 * i] * f[3 * i] + f[3 * i + 1] * f[3 * i + 1] +
+                                   f[3 * i + 2] * f[3 * i + 2]);
+      EXPECT_NEAR(fc[i], mag, 1e-12 * std::fabs(f[3 * 5 + 2])) << "atom " << i + 1;
+      touched += mag > 0.0;
+    }
+    EXPECT_GE(touched, 4);
+  }
 }
 
 // fix ncf/contact/history (created by the pair style) writes the friction history into the

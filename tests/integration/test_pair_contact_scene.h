@@ -1,10 +1,12 @@
 // Scenes for the pair ncf/contact tests: chains as polylines written to a LAMMPS data file
-// (atom_style bond, molecule ID = chain ID, one bond type). Shared by the integration and mpi
+// (atom_style bond, molecule ID = chain ID, one bond type), and a brute-force evaluation of the
+// contact law over all pairs of a scene. Shared by the integration and mpi
 // tests of pair ncf/contact (header only, not a test on its own).
 
 #ifndef TEST_PAIR_CONTACT_SCENE_H
 #define TEST_PAIR_CONTACT_SCENE_H
 
+#include "ncf_contact.h"
 #include "ncf_geometry.h"
 
 #include <array>
@@ -136,6 +138,80 @@ inline std::vector<Chain> layered_mat(int nlayers, int per_layer, double side, d
       if (!ok) continue;
       placed.push_back({p0.x, p0.y, p1.x, p1.y});
       out.push_back(straight({p0.x, p0.y, z}, {p1.x, p1.y, z}, nseg));
+    }
+  }
+  return out;
+}
+
+// A brute-force reference of pair ncf/contact (no list, no cutoff, no ranks), with the pair
+// style's defaults: ramp, core, end cap
+inline constexpr double RAMP_FRAC = 0.25;
+inline constexpr double CORE = NCF::DEFAULT_CORE;
+inline constexpr double ENDCAP_FRAC = NCF::DEFAULT_ENDCAP;
+
+struct Brute {
+  int contacts = 0, caps = 0;
+  double energy = 0.0;    // frictionless contact energy
+  double pensum = 0.0;    // sum of the penetrations of the segment pairs
+};
+
+// every segment pair (A, B) of the chains that shares no node, key(A) < key(B), B's periodic
+// image nearest to A (x and y periodic with period `side`); and every cap of an interior node n
+// (chain neighbours p, q) with a segment A that touches neither of n's segments
+inline Brute brute_force(const std::vector<Chain> &chains, const std::vector<double> &x,
+                         double side, double kn)
+{
+  struct Seg {
+    int a0, a1;    // node indices (0-based, = tag - 1); a0 < a1
+  };
+  std::vector<Seg> segs;
+  std::vector<std::array<int, 3>> interior;    // p, n, q
+  std::vector<bool> free_end;                  // per node: one bond only
+  int id = 0;
+  for (const auto &c : chains) {
+    const int n = (int) c.x.size();
+    for (int k = 0; k < n; k++) free_end.push_back(k == 0 || k == n - 1);
+    for (int k = 0; k + 1 < n; k++) segs.push_back({id + k, id + k + 1});
+    for (int k = 1; k + 1 < n; k++) interior.push_back({id + k - 1, id + k, id + k + 1});
+    id += n;
+  }
+  auto P = [&](int n) {
+    return NCF::Vec3(&x[3 * n]);
+  };
+  // shift that brings the point b next to the point a
+  auto image = [&](const NCF::Vec3 &a, const NCF::Vec3 &b) {
+    return NCF::Vec3(-side * std::round((b.x - a.x) / side), -side * std::round((b.y - a.y) / side),
+                     0.0);
+  };
+  const double dc = DIAM, e = RAMP_FRAC * DIAM;
+  Brute out;
+  for (size_t i = 0; i < segs.size(); i++) {
+    const NCF::Vec3 a0 = P(segs[i].a0), a1 = P(segs[i].a1);
+    for (size_t j = i + 1; j < segs.size(); j++) {
+      const Seg &A = segs[i], &B = segs[j];    // keys ascend with the index
+      if (A.a0 == B.a0 || A.a0 == B.a1 || A.a1 == B.a0 || A.a1 == B.a1) continue;
+      const NCF::Vec3 sh = image(a0, P(B.a0));
+      NCF::ContactOptions opt;
+      opt.core = CORE;
+      const int nodes[4] = {A.a0, A.a1, B.a0, B.a1};
+      for (int k = 0; k < 4; k++) opt.ext[k] = free_end[nodes[k]] ? ENDCAP_FRAC * dc : 0.0;
+      const auto c = NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
+      if (!c.active) continue;
+      out.contacts++;
+      out.energy += c.energy;
+      out.pensum += c.penetration;
+    }
+    for (const auto &pnq : interior) {
+      const Seg &A = segs[i];
+      bool excluded = false;
+      for (int m : pnq) excluded = excluded || m == A.a0 || m == A.a1;
+      if (excluded) continue;
+      const NCF::Vec3 sh = image(a0, P(pnq[1]));
+      const auto c = NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc,
+                                       kn, e, CORE);
+      if (!c.active) continue;
+      out.caps++;
+      out.energy += c.energy;
     }
   }
   return out;

@@ -11,12 +11,20 @@
 #include <mpi.h>
 
 #include <string>
+#include <vector>
 
 namespace mpimat {
 
 const double SIDE = 1.5e-3;
-const double DZ = 0.97 * contactscene::DIAM;    // consecutive layers start slightly pressed together
-const int NLAYER = 5, PERLAYER = 10;            // 50 chains
+const double DZ =
+    0.97 * contactscene::DIAM;          // consecutive layers start slightly pressed together
+const int NLAYER = 5, PERLAYER = 10;    // 50 chains
+
+// the chains of the mat (every rank: the brute-force reference of the contacts needs them)
+inline std::vector<contactscene::Chain> chains()
+{
+  return contactscene::layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17);
+}
 
 // the data file of the mat in the test folder `name` (written on the first call)
 inline std::string scene_data(const std::string &name)
@@ -31,9 +39,7 @@ inline std::string scene_data(const std::string &name)
     box.hi[2] = (NLAYER - 0.5) * DZ + 0.6 * contactscene::DIAM;
     path = dir + "/mat.data";
     if (ncftest::world_rank() == 0)
-      contactscene::write_data(path,
-                               contactscene::layered_mat(NLAYER, PERLAYER, SIDE, 1e-4, DZ, 17), box,
-                               contactscene::RHO_A * 1e-4);
+      contactscene::write_data(path, chains(), box, contactscene::RHO_A * 1e-4);
     MPI_Barrier(MPI_COMM_WORLD);
   }
   return path;

@@ -1,11 +1,14 @@
 // pair ncf/contact on 1, 2 and 4 MPI ranks (newton on, periodic in x and y, friction history):
 // a 50-chain mat compacted by a moving wall for 2000 steps ends in the same positions to 1e-10
-// (relative to the box); a run restarted in the middle on another number of ranks too, and a run
+// (relative to the box), with the contacts of the serial brute-force reference on every rank count; a run restarted in the middle on another number of ranks too, and a run
 // whose sub-domains fix balance moves every 100 steps (the friction history migrates with the
 // atoms through the per-atom rows that fix ncf/contact/history writes before they move).
 
 #include "mpi_layered_mat.h"
 #include "ncf_lammps_test.h"
+
+#include "comm.h"
+#include "lammps.h"
 
 #include <gtest/gtest.h>
 
@@ -77,16 +80,29 @@ TEST(PairContactRanks, SameTrajectoryOn1And2And4Ranks)
 {
   ASSERT_GE(world_size(), 4);
   scene_data();    // collective: written before the communicators are split
+  const auto chains = mpimat::chains();
   double contacts = 0.0;
   auto run = [&](MPI_Comm comm) {
     Lammps l(comm);
     define(l);
     l.cmds(PRESS);
     l.cmd("compute pc all pair ncf/contact");
-    l.cmd("thermo_style custom step pe c_pc[1]");
+    l.cmd("thermo_style custom step pe c_pc[1] c_pc[2] c_pc[4]");
     l.cmd("run 2000");
     contacts = l.value("c_pc[1]");
-    return l.positions();
+    // against the serial brute-force reference of the contact law (every pair of the system, no
+    // list, no ranks) at the final positions: the same contacts, caps and penetrations, so that
+    // a fault common to every rank count (a pair listed twice, one missed) shows too
+    const std::vector<double> x = l.positions();
+    const double caps = l.value("c_pc[4]"), pensum = l.value("c_pc[2]");
+    const int n = l.lmp->comm->nprocs;
+    if (world_rank() == 0) {
+      const Brute ref = brute_force(chains, x, SIDE, 1e8);
+      EXPECT_EQ(contacts, ref.contacts) << n << " ranks";
+      EXPECT_EQ(caps, ref.caps) << n << " ranks";
+      EXPECT_NEAR(pensum, ref.pensum, 1e-9 * ref.pensum) << n << " ranks";
+    }
+    return x;
   };
   auto p1 = positions_on_ranks(1, run);
   auto p2 = positions_on_ranks(2, run);

@@ -107,6 +107,18 @@ TEST(NeedleProfile, RadiusAlongTheNeedle)
     EXPECT_NEAR(d1, d2, 1e-6 * R / TIP) << t;
     EXPECT_LE(NCF::needle_radius(n, t * TIP), R);
   }
+  // the slope is the derivative of the radius all along, the far (mirrored) end included, for
+  // both directions
+  for (const Needle &m : {n, up})
+    for (double u : {0.3, 0.7, 0.95, 1.5, 5.0}) {
+      for (double z : {-m.direction * u * TIP, -m.direction * (m.length - u * TIP)}) {
+        const double h = 1e-7 * TIP;
+        double slope;
+        NCF::needle_radius(m, z, &slope);
+        const double fd = (NCF::needle_radius(m, z + h) - NCF::needle_radius(m, z - h)) / (2 * h);
+        EXPECT_NEAR(slope, fd, 1e-6 * R / TIP) << "direction " << m.direction << ", z " << z;
+      }
+    }
 }
 
 TEST(NeedleContact, ForceIsMinusTheEnergyGradient)
