@@ -56,7 +56,8 @@ PLATE = r"^(unit\.test_wall|integration\.test_fix_plate|integration\.test_split_
 NEEDLE = r"^(unit\.test_needle|integration\.test_fix_needles|integration\.test_split_runs|mpi\.test_fix_needles_mpi)$"
 SHRINK = r"^(integration\.test_fix_shrink|integration\.test_split_runs)$"
 CONTACT = (r"^(unit\.test_contact.*|integration\.test_pair_contact.*|integration\.test_split_runs"
-           r"|mpi\.test_pair_contact_ranks|mpi\.test_split_runs_mpi)$")
+           r"|mpi\.test_pair_contact_ranks|mpi\.test_pair_contact_peratom_mpi|mpi\.test_split_runs_mpi"
+           r"|harness\.pair\..*)$")
 GEOM = r"^(unit\.test_geometry|unit\.test_contact_core|integration\.test_pair_contact_list)$"
 
 # ---------------------------------------------------------------- bond_style ncf/chain
