@@ -124,6 +124,23 @@ def read_needles(path):
     return pts
 
 
+def unwrapped_positions(path):
+    """id -> node position with the periodic images undone (x, y), from a data file; and the
+    longest box side"""
+    box, atoms, _, _, _ = read_data(path)
+    lx, ly = box["x"][1] - box["x"][0], box["y"][1] - box["y"][0]
+    pos = {i: (a[2] + a[5] * lx, a[3] + a[6] * ly, a[4]) for i, a in atoms.items()}
+    return pos, max(lx, ly, box["z"][1] - box["z"][0])
+
+
+def fibre_diameter(settings):
+    """the fibre chain diameter of a generator's settings file (ncf_d_fibre)"""
+    for line in open(settings):
+        if line.startswith("variable ncf_d_fibre equal"):
+            return float(line.split()[3])
+    raise ReportError(f"{settings}: no ncf_d_fibre")
+
+
 def summary_value(path, key):
     for line in open(path):
         if line.strip().startswith(key):

@@ -15,7 +15,7 @@ for stage in compact pierce stitch pretension release; do
     [ -s "$out/small.$stage.$ext" ] || { echo "FAIL: no small.$stage.$ext"; exit 1; }
   done
 done
-/usr/bin/python3 "$here/report_manufacturing.py" small --dir "$out" --out "$out/report.md"
+/usr/bin/python3 -B "$here/report_manufacturing.py" small --dir "$out" --out "$out/report.md"
 
 # 1, 2 and 4 MPI ranks through stages 2-4 from the same compacted mat, a fixed and small number
 # of steps per stage (fast needles, short holds and ramp): the same trajectory up to round-off and
@@ -42,31 +42,13 @@ source "${NCF_BUILD:-$here/../../build}/ncf-env.sh"    # lmp (run.sh sources it 
 cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,compact.restart} "$out/straight/"
 (cd "$out/straight" && lmp -in "$here/straight.lmp" -var prefix small -var here "$here" -var pdyn 1e4 \
   -var hold 50 -var release 200 -var ramp 150 -var needle_speed 200 -log straight.log -screen none)
-/usr/bin/python3 - "$out" <<'PY'
+/usr/bin/python3 -B - "$out" "$here" <<'PY'
 import sys
 out = sys.argv[1]
-def diameter(path):
-    for line in open(path):
-        if line.startswith("variable ncf_d_fibre equal"):
-            return float(line.split()[3])
-    raise SystemExit(f"FAIL: no ncf_d_fibre in {path}")
-def atoms(path):
-    box, pos, sec = {}, {}, None
-    for line in open(path):
-        w = line.split("#")[0].split()
-        if not w:
-            continue
-        if len(w) >= 4 and w[2] in ("xlo", "ylo", "zlo"):
-            box[w[2][0]] = float(w[1]) - float(w[0])
-        elif w[0][0].isalpha():
-            sec = w[0]
-        elif sec == "Atoms":
-            x, y, z = (float(v) for v in w[3:6])
-            ix, iy = int(w[6]), int(w[7])
-            pos[int(w[0])] = (x + ix * box["x"], y + iy * box["y"], z)
-    return pos, max(box.values())
+sys.path.insert(0, sys.argv[2])
+from report_manufacturing import fibre_diameter, unwrapped_positions as atoms
 ok = True
-tol = 1e-5 * diameter(f"{out}/np1/small.settings.lmp")
+tol = 1e-5 * fibre_diameter(f"{out}/np1/small.settings.lmp")
 for stage in ("pierce", "stitch", "pretension"):
     ref, size = atoms(f"{out}/np1/small.{stage}.data")
     for np in (2, 4):

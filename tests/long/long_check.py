@@ -4,7 +4,12 @@ counts unchanged and its HOLD_END line there; the 2- and 4-rank end states again
 and the run resumed after SIGKILL against the uninterrupted 2-rank run (largest node distance).
 Usage: long_check.py OUT STEPS"""
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples",
+                                "manufacturing"))
+from report_manufacturing import fibre_diameter, unwrapped_positions    # noqa: E402
 
 BOUND_RANKS = 1e-3    # of the fibre chain diameter: round-off grown over the run, far below a defect
 BOUND_RESUME = 1e-3
@@ -26,28 +31,9 @@ def thermo(path):
     return head, rows, end
 
 
-def atoms(path):
-    box, pos, sec = {}, {}, None
-    for line in open(path):
-        w = line.split("#")[0].split()
-        if not w:
-            continue
-        if len(w) >= 4 and w[2] in ("xlo", "ylo", "zlo"):
-            box[w[2][0]] = float(w[1]) - float(w[0])
-        elif w[0][0].isalpha():
-            sec = w[0]
-        elif sec == "Atoms":
-            x, y, z = (float(v) for v in w[3:6])
-            pos[int(w[0])] = (x + int(w[6]) * box["x"], y + int(w[7]) * box["y"], z)
-    return pos
-
-
 def main():
     out, steps = sys.argv[1], int(sys.argv[2])
-    d = None
-    for line in open(f"{out}/small.settings.lmp"):
-        if line.startswith("variable ncf_d_fibre equal"):
-            d = float(line.split()[3])
+    d = fibre_diameter(f"{out}/small.settings.lmp")
     ok = True
     for name in ("hold.np1", "hold.np2", "hold.np4", "hold.resumed"):
         head, rows, end = thermo(f"{out}/{name}.log")
@@ -61,10 +47,10 @@ def main():
               f"bonds {sorted(nb)}, NaN/inf rows {len(bad)}, end ke {last[head.index('c_ke')]:.3g} J "
               f"fmax {last[head.index('Fmax')]:.3g} N contacts {int(last[head.index('c_pc[1]')])}: "
               f"{'ok' if good else 'FAIL'}")
-    ref = atoms(f"{out}/hold.np1.data")
+    ref = unwrapped_positions(f"{out}/hold.np1.data")[0]
     for name, against, bound in (("hold.np2", "hold.np1", BOUND_RANKS), ("hold.np4", "hold.np1", BOUND_RANKS),
                                  ("hold.resumed", "hold.np2", BOUND_RESUME)):
-        a, b = atoms(f"{out}/{name}.data"), atoms(f"{out}/{against}.data")
+        a, b = unwrapped_positions(f"{out}/{name}.data")[0], unwrapped_positions(f"{out}/{against}.data")[0]
         dist = max(math.dist(a[i], b[i]) for i in b) if a.keys() == b.keys() else float("inf")
         good = dist <= bound * d
         ok &= good

@@ -59,4 +59,4 @@ restart=$(ls hold.killed.*.restart | sed 's/hold.killed.\([0-9]*\).restart/\1 &/
 [ -n "$restart" ] || { echo "[long-run] FAIL: no restart file of the killed run before step $s"; exit 1; }
 echo "[long-run] restarting from $restart"
 hold 2 hold.resumed -var from "$restart"
-/usr/bin/python3 "$here/long_check.py" "$out" "$steps"
+/usr/bin/python3 -B "$here/long_check.py" "$out" "$steps"
