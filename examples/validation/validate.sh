@@ -48,7 +48,7 @@ done
       [ -s "$d/measure/ncf-measure-summary.csv" ] || continue
       csvs+=("$d/measure/ncf-measure-summary.csv")
       read -r _ _ seed _ r1 r2 _ wall _ np < "$d/wall"
-      nodes=$(grep 'total atoms' "$d/$fab.summary" | awk '{print $4}')
+      nodes=$(grep 'total atoms' "$d/$fab.summary" | awk '{print $4}' | tr -d ,)
       checks=$(grep -q FAIL "$d/manufacturing.md" && echo "a check failed" || echo "all hold")
       echo "| $fab | $seed | $r1×$r2 | $nodes | $((wall / 60)) min $((wall % 60)) s | $np | $checks |"
     done
