@@ -12,6 +12,7 @@
 //   @expect-ok                  the end of a check case: the input must run without error
 // NCF_BAD_INPUT_SHOW=1 prints every case's message.
 
+#include "ncf_case_name.h"
 #include "ncf_lammps_test.h"
 
 #include "fmt/format.h"
@@ -160,13 +161,6 @@ std::vector<Case> all_cases()
   }
 }
 
-std::string test_name(const ::testing::TestParamInfo<Case> &info)
-{
-  std::string s;
-  for (char c : info.param.name) s += std::isalnum((unsigned char) c) ? c : '_';
-  return s;
-}
-
 // (gtest names a failing case by this, not by its bytes)
 void PrintTo(const Case &c, std::ostream *os)
 {
@@ -213,4 +207,5 @@ TEST_P(BadInput, StopsWithItsMessage)
                                           << script;
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(all_cases()), test_name);
+INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(all_cases()),
+                         ncftest::case_test_name<Case>);

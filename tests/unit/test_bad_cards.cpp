@@ -17,6 +17,7 @@
 //   @expect-ok                  ends a check case: generation succeeds
 // NCF_BAD_INPUT_SHOW=1 prints every case's message.
 
+#include "ncf_case_name.h"
 #include "ncfgen.h"
 
 #include <gmock/gmock.h>
@@ -205,13 +206,6 @@ std::vector<std::string> files_starting(const fs::path &dir, const std::string &
   return out;
 }
 
-std::string test_name(const ::testing::TestParamInfo<Case> &info)
-{
-  std::string s;
-  for (char c : info.param.name) s += std::isalnum((unsigned char) c) ? c : '_';
-  return s;
-}
-
 // (gtest names a failing case by this, not by its bytes)
 void PrintTo(const Case &c, std::ostream *os)
 {
@@ -244,7 +238,7 @@ TEST_P(BadCard, FailsWithItsMessageAndWritesNothing)
     for (auto &f : corpus().files) write(d / f.first, replace_all(f.second, "@DIR@", d.string()));
     return d;
   }();
-  std::string safe = test_name(::testing::TestParamInfo<Case>(c, 0));
+  std::string safe = ncftest::case_test_name(::testing::TestParamInfo<Case>(c, 0));
   const fs::path card = dir / (safe + ".card");
   write(card, replace_all(replace_all(c.card, "@MATERIALS@", MATERIALS), "@DIR@", dir.string()));
   const std::string prefix = "out-" + safe;
@@ -265,7 +259,8 @@ TEST_P(BadCard, FailsWithItsMessageAndWritesNothing)
   EXPECT_TRUE(files_starting(dir, prefix).empty()) << "output left behind\n" << where;
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, BadCard, ::testing::ValuesIn(all_cases()), test_name);
+INSTANTIATE_TEST_SUITE_P(Corpus, BadCard, ::testing::ValuesIn(all_cases()),
+                         ncftest::case_test_name<Case>);
 
 // ---------------------------------------------------------------------- atomic outputs
 
