@@ -92,16 +92,63 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
   // it (restart(), right after this constructor), otherwise init() stops
   tilted_at_definition =
       domain->triclinic && (domain->xy != 0.0 || domain->xz != 0.0 || domain->yz != 0.0);
-  if (!tilted_at_definition) capture_reference();
+  if (!from_id.empty())
+    take_state_of(from_id);
+  else if (!tilted_at_definition)
+    capture_reference();
+}
+
+/* ----------------------------------------------------------------------
+   from FIXID: the reference state, groups and last multipliers of an existing fix ncf/pbc, so
+   that a fix defined later in the same process can be moved before it (define the copy, then
+   unfix the original) without capturing a new reference from the current positions
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::take_state_of(const std::string &other_id)
+{
+  auto *f = modify->get_fix_by_id(other_id);
+  if (!f) error->all(FLERR, "fix ncf/pbc: from '{}': no fix with this ID", other_id);
+  auto *other = dynamic_cast<FixNCFPBC *>(f);
+  if (!other || other == this)
+    error->all(FLERR, "fix ncf/pbc: from '{}': fix {} is {}, not another fix ncf/pbc", other_id,
+               other_id, f->style);
+  if (other->igroup != igroup)
+    error->all(FLERR,
+               "fix ncf/pbc: from '{}': its group is {}, this fix's is {}; the state belongs to "
+               "the end nodes of its group",
+               other_id, group->names[other->igroup], group->names[igroup]);
+  nodes = other->nodes;
+  ngroups = other->ngroups;
+  group_pair = other->group_pair;
+  std::copy(other->href, other->href + 6, href);
+  endface_name = other->endface_name;
+  faces_auto = other->faces_auto;
+  for (int p = 0; p < 2; p++) {
+    pair_on[p] = other->pair_on[p];
+    nmerged[p] = other->nmerged[p];
+    for (int k = 0; k < 2; k++) {
+      user_cells[p][k] = other->user_cells[p][k];
+      mesh_cells[p][k] = other->mesh_cells[p][k];
+    }
+  }
+  lambda_last = other->lambda_last;
+  lambda_step = other->lambda_step;
+  tilted_at_definition = other->tilted_at_definition;
+  finish_groups();
+  if (comm->me == 0)
+    utils::logmesg(lmp, "fix ncf/pbc: reference state and {} constraint groups taken from fix {}\n",
+                   ngroups, other_id);
 }
 
 /* ----------------------------------------------------------------------
    fix ID group ncf/pbc [faces x|y|xy] [endface NAME|auto] [xcells NU NV] [ycells NU NV]
+                        [from FIXID]
 ------------------------------------------------------------------------- */
 
 void FixNCFPBC::parse(int narg, char **arg)
 {
   int iarg = 3;
+  std::string shape_keyword;    // the last keyword given that shapes the groups (faces, ...)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     auto need = [&](int n) {
@@ -152,9 +199,21 @@ void FixNCFPBC::parse(int narg, char **arg)
         user_cells[p][k] = n;
       }
       iarg += 3;
+    } else if (key == "from") {
+      need(1);
+      from_id = arg[iarg + 1];
+      iarg += 2;
     } else
       error->all(FLERR, "fix ncf/pbc: unknown keyword '{}'", key);
+    if (key != "from") shape_keyword = key;
   }
+  // the copied state fixes the faces, cells and end-face codes: a keyword that would set them
+  // too would be ignored
+  if (!from_id.empty() && !shape_keyword.empty())
+    error->all(FLERR,
+               "fix ncf/pbc: keyword '{}' cannot be combined with 'from {}', which takes the "
+               "faces, cells and end nodes of that fix",
+               shape_keyword, from_id);
 }
 
 /* ----------------------------------------------------------------------

@@ -51,6 +51,7 @@ class FixNCFPBC : public Fix {
   std::vector<double> dref;       // per group: D_g = sum_i w_i X_i^ref (3 components)
   double href[6];                 // box h (xprd, yprd, zprd, yz, xz, xy) of the reference state
   std::string endface_name;       // per-atom integer with the face codes, or "" for auto
+  std::string from_id;            // keyword from: the fix ncf/pbc whose state this one takes
   int pair_on[2];                 // which face pairs are constrained
   int faces_auto;                 // 1: constrain the pairs that have end nodes
   int user_cells[2][2];           // user mesh per pair (0 = auto)
@@ -71,6 +72,7 @@ class FixNCFPBC : public Fix {
 
   void parse(int, char **);
   void capture_reference();
+  void take_state_of(const std::string &other_id);
   void finish_groups();
   void box_vector(int pair, const double *h, double *a) const;
   void predicted_box(double *h1, double *lo1, bool &remap, int &deform_groupbit) const;

@@ -226,6 +226,52 @@ run 500
   EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
 }
 
+// A fix defined after fix ncf/pbc in the same process (an indenter, a second plate) is moved
+// behind it by a copy that takes its state ('from'), the original then removed: the run goes on
+// as if nothing had happened, bit for bit; capturing a new reference instead does not
+TEST(FixPBC, MovedByFromContinuesTheSameTrajectory)
+{
+  auto dir = scratch_dir("pbc_from");
+  auto mat = write_mat(dir, 3.0, 14);
+  auto start = [&](Lammps &l) {
+    load_mat(l, mat);
+    l.cmds(R"(
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+run 500
+)");
+  };
+  std::vector<double> straight, moved, recaptured;
+  {
+    Lammps l;
+    start(l);
+    l.cmd("run 500");
+    straight = l.positions();
+  }
+  {
+    Lammps l;
+    start(l);
+    l.cmds("fix later all addforce 0 0 0\nfix pbc_moving ends ncf/pbc from pbc\nunfix pbc");
+    l.cmds("fix pbc ends ncf/pbc from pbc_moving\nunfix pbc_moving\nrun 500");
+    // the copy is the last fix that changes forces
+    auto fixes = l.lmp->modify->get_fix_list();
+    EXPECT_STREQ(fixes.back()->id, "pbc");
+    moved = l.positions();
+  }
+  {
+    Lammps l;
+    start(l);
+    l.cmds("unfix pbc\nfix pbc ends ncf/pbc faces x\nrun 500");
+    recaptured = l.positions();
+  }
+  EXPECT_EQ(max_abs_diff(moved, straight), 0.0);
+  EXPECT_GT(max_abs_diff(recaptured, straight), 0.0);
+  std::printf("[measured] moved by 'from': %.3g m; captured again: %.3g m\n",
+              max_abs_diff(moved, straight), max_abs_diff(recaptured, straight));
+}
+
 // A restart file written after a box deformation (stretch and shear): the fix, defined again in
 // the tilted box, takes its reference from the file, and the constraint keeps its targets F D_g
 // with F relative to the reference box of the start (not the box of the restart): the same
@@ -319,7 +365,7 @@ TEST_P(FixPBCErrors, NameTheProblem)
   Lammps l;
   load_mat(l, mat);
   auto msg = error_of([&] {
-    l.cmd(GetParam().command);
+    l.cmds(GetParam().command);
   });
   EXPECT_THAT(msg, HasSubstr(GetParam().message)) << GetParam().command;
 }
@@ -343,7 +389,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadPbc{"fix p ends ncf/pbc faces xy",
                "fix ncf/pbc: no end node of group ends lies on the y faces"},
         BadPbc{"fix p all ncf/pbc endface i_ncf_layer",
-               "fix ncf/pbc: x faces: averaged periodic boundary: no end node on the upper face"}));
+               "fix ncf/pbc: x faces: averaged periodic boundary: no end node on the upper face"},
+        BadPbc{"fix p ends ncf/pbc from", "fix ncf/pbc: keyword 'from' needs 1 value(s)"},
+        BadPbc{"fix p ends ncf/pbc from nothing",
+               "fix ncf/pbc: from 'nothing': no fix with this ID"},
+        BadPbc{"fix n all nve\nfix p ends ncf/pbc from n",
+               "fix ncf/pbc: from 'n': fix n is nve, not another fix ncf/pbc"},
+        BadPbc{"fix p ends ncf/pbc faces x\nfix q ends ncf/pbc from p faces x",
+               "fix ncf/pbc: keyword 'faces' cannot be combined with 'from p'"},
+        BadPbc{"fix p ends ncf/pbc faces x\ngroup two id 1 2\nfix q two ncf/pbc from p",
+               "fix ncf/pbc: from 'p': its group is ends, this fix's is two"}));
 
 TEST(FixPBC, AutoFacesTieOnlyThePairsWithEndNodes)
 {
