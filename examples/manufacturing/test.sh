@@ -32,16 +32,25 @@ for np in 1 2 4; do
     NCF_LMP_ARGS="-var hold 50 -var release 200 -var ramp 150 -var needle_speed 200" \
     bash "$here/run.sh" "$out/np$np" "$here/small.card" > "$out/np$np/run.out"
 done
-# the same stages 2-4 on 1 rank straight through in one LAMMPS process (straight.lmp), without the
-# restart files between them: a restart at a stage boundary must lose nothing the next stage uses
-# (friction history of chains and plates, reference lengths, averaged-PBC state); measured: stage
-# 3 bitwise equal, stage 4 within 1e-17 m; a bug that re-captures the averaged-PBC state at a
-# boundary moves nodes by 0.4 mm)
-mkdir -p "$out/straight"
+# all five stages on 1 rank straight through in one LAMMPS process (straight.lmp), without the
+# restart files between them, against the same stages run from their restart files (run.sh, a
+# fast compaction and short holds): a restart at a stage boundary must lose nothing the next stage
+# uses (friction history of chains and plates, reference lengths, averaged-PBC state, plates,
+# shrink ramp). Measured: the compaction bitwise equal; after it the forces of the first step
+# differ in the last bit for a few per cent of the nodes (the contact sums in another order), which
+# friction amplifies as between rank counts, over 2 500 steps here (1.7e-14 m after piercing,
+# 3e-10 m after pretension, 4.6e-10 m after release); bound 1e-4 chain diameters (6.9 nm). Planted
+# bugs: the averaged-PBC state captured again at each boundary moves nodes by 0.48 mm, the shrink
+# ramp started again in the release by 71 um
+fast="-var hold 50 -var release 200 -var ramp 150 -var needle_speed 200 -var relax 50 -var lift_speed 400"
+mkdir -p "$out/restarts" "$out/straight"
+NCF_NP=1 NCF_PDYN=1e6 NCF_LMP_ARGS="$fast" bash "$here/run.sh" "$out/restarts" "$here/small.card" \
+  > "$out/restarts/run.out"
 source "${NCF_BUILD:-$here/../../build}/ncf-env.sh"    # lmp (run.sh sources it itself)
-cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,compact.restart} "$out/straight/"
-(cd "$out/straight" && lmp -in "$here/straight.lmp" -var prefix small -var here "$here" -var pdyn 1e4 \
-  -var hold 50 -var release 200 -var ramp 150 -var needle_speed 200 -log straight.log -screen none)
+cp "$out"/restarts/small.{summary,settings.lmp,layers.data,yarn.lmp,yarn.data,needles} "$out/straight/"
+# shellcheck disable=SC2086  (the word splitting of $fast is wanted)
+(cd "$out/straight" && lmp -in "$here/straight.lmp" -var prefix small -var here "$here" -var pdyn 1e6 \
+  $fast -log straight.log -screen none)
 /usr/bin/python3 -B - "$out" "$here" <<'PY'
 import sys
 out = sys.argv[1]
@@ -60,13 +69,14 @@ for stage in ("pierce", "stitch", "pretension"):
         ok &= good
         print(f"{stage}: {np} ranks vs 1 rank, largest position difference {d:.3g} m "
               f"({d / size:.2g} of the box, bound {tol:.2g} m): {'ok' if good else 'FAIL'}")
-    # straight through on 1 rank against the same rank count from the restart files: the same
-    # operations up to the order of atoms after read_restart, hence a bound 1e4 below the ranks'
+for stage in ("compact", "pierce", "stitch", "pretension", "release"):
+    # straight through against the stages from their restart files, both on 1 rank
+    ref, _ = atoms(f"{out}/restarts/small.{stage}.data")
     other, _ = atoms(f"{out}/straight/small.{stage}.data")
     d = max(abs(a - b) for i in ref for a, b in zip(ref[i], other[i])) if other.keys() == ref.keys() else float("inf")
-    good = d <= 1e-4 * tol
+    good = d <= 10 * tol
     ok &= good
     print(f"{stage}: straight through vs from the restart files, largest position difference {d:.3g} m "
-          f"(bound {1e-4 * tol:.2g} m): {'ok' if good else 'FAIL'}")
+          f"(bound {10 * tol:.2g} m): {'ok' if good else 'FAIL'}")
 sys.exit(0 if ok else 1)
 PY
