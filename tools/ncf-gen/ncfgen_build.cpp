@@ -100,6 +100,29 @@ namespace {
     return std::sqrt(best);
   }
 
+  // How far in from the main faces the end nodes of a straight chain must lie (at least e0) so
+  // that its last node keeps the distance dmin from the first node of its own periodic image:
+  // the chain (length len, unit direction dir, crossing main axis a) travels len dir[b] along
+  // the other axis b (period period_b); its image across the main face starts offset by
+  // delta = that travel less whole periods. Between the two end nodes v = 2e dir - delta e_b,
+  // |v|^2 = 4e^2 - 4 e delta dir[b] + delta^2: at least dmin^2 for e >= (delta dir[b] +
+  // sqrt(dmin^2 - delta^2 dir[a]^2)) / 2 when |delta dir[a]| < dmin (the segments, pointing away
+  // from each other there, are then clear too); otherwise the two lines are a diameter apart
+  double end_inset(double e0, double len, const double *dir, int a, double period_b, double dmin)
+  {
+    const int b = 1 - a;
+    const double travel = len * dir[b];
+    double e = e0;
+    const double nlow = std::floor(travel / period_b);
+    for (double n : {nlow, nlow + 1.0}) {
+      const double delta = travel - n * period_b;
+      const double across = delta * dir[a];
+      if (std::fabs(across) >= dmin) continue;
+      e = std::max(e, 0.5 * (delta * dir[b] + std::sqrt(dmin * dmin - across * across)));
+    }
+    return e;
+  }
+
   int gcd(int a, int b)
   {
     return b ? gcd(b, a % b) : a;
@@ -280,11 +303,24 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
       // chain diameter (elements i and i + 2 of a straight chain would touch), so that every
       // fibre_mesh >= chain_diameter works (the count changes only where that happened)
       while (nseg > 2 && len / nseg < dc * (1.0 + 1e-9)) nseg--;
-      const double h = len / nseg;
+      double h = len / nseg;
       // nodes half an element in from the main faces: the end caps of a chain and of its
-      // continuation through the opposite face are one element apart
-      for (int j = 0; j < nseg; j++)
-        pts[k].push_back({p0[0] + (j + 0.5) * h * dir[0], p0[1] + (j + 0.5) * h * dir[1]});
+      // continuation through the opposite face are one element apart. An inclined chain's
+      // continuation is its own periodic image, offset across its axis by the chain's travel
+      // along the face less whole periods; where that offset is below a diameter the end nodes
+      // of the two would be closer than d_c (the height cannot separate a chain from itself), so
+      // the ends move further in, just enough (end_inset)
+      const double e = end_inset(0.5 * h, len, dir, info.main_axis, info.main_axis ? lx : ly,
+                                 dc * (1.0 + MARGIN));
+      const bool inset = e > 0.5 * h;
+      if (inset) {
+        while (nseg > 2 && (len - 2.0 * e) / (nseg - 1) < dc * (1.0 + 1e-9)) nseg--;
+        h = (len - 2.0 * e) / (nseg - 1);
+      }
+      for (int j = 0; j < nseg; j++) {
+        const double sj = inset ? e + j * h : (j + 0.5) * h;
+        pts[k].push_back({p0[0] + sj * dir[0], p0[1] + sj * dir[1]});
+      }
       // the line spans the chain with its end caps: pair ncf/contact extends a free end segment
       // by NCF::DEFAULT_ENDCAP diameters along its axis (pair_style default), so chains must also
       // keep clear of each other there
