@@ -18,7 +18,8 @@
 #                must be in OUT)
 #   NCF_SEED     random seed of the chain angles (default: the card's)
 #   NCF_RVE      "R_W R_L" RVE repetitions (default: the card's)
-#   NCF_PDYN     accepted dynamic pressure of the compaction [Pa] (default 1e4)
+#   NCF_PDYN     accepted dynamic pressure of the compaction [Pa] (default: the card's quality
+#                preset, doc/ncf-gen.md; 1e4 for quality standard)
 #   NCF_LMP_ARGS extra LAMMPS arguments for every stage, e.g. "-var tau 1000"
 #   NCF_ARGS_<stage>  extra LAMMPS arguments for one stage, e.g. NCF_ARGS_pierce="-var hold 500";
 #                they come first, so they win over NCF_LMP_ARGS (LAMMPS keeps the first -var)
@@ -32,7 +33,9 @@ fabrics=("$@")
 : "${NCF_BUILD:=$here/../../build}"
 source "$NCF_BUILD/ncf-env.sh"
 np=${NCF_NP:-1}
-pdyn=${NCF_PDYN:-1e4}
+# the compaction's dynamic pressure only when asked for: else the card's quality preset sets it
+pdyn_arg=()
+[ -n "${NCF_PDYN:-}" ] && pdyn_arg=(-var pdyn "$NCF_PDYN")
 stages_all=(compact pierce stitch pretension release)
 range=${NCF_STAGES:-1-5}
 first=${range%-*} last=${range#*-}
@@ -61,7 +64,7 @@ run_stage() {    # fab index name
   [ -t 1 ] && tty=1
   local extra="NCF_ARGS_$name"
   # shellcheck disable=SC2086  (word splitting of the extra arguments is wanted)
-  run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" -var pdyn "$pdyn" \
+  run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" "${pdyn_arg[@]}" \
     ${!extra:-} ${NCF_LMP_ARGS:-} -log "$log" -screen none &
   pid=$!
   local last_print=$SECONDS

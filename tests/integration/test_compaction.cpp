@@ -108,3 +108,46 @@ TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
   EXPECT_GT(zlow, 0.0);
   EXPECT_LT(zover, 0.0);
 }
+
+TEST(Compaction, QualityPresetGivesTheRunParametersAndTheCommandLineWins)
+{
+  // mini.card with 'quality draft': the stage script takes pdyn and tau from the settings the
+  // generator wrote (ncf_pdyn, ncf_tau), while dtfrac given before the script (as -var does)
+  // wins over the preset's ncf_dtfrac
+  const std::string dir = scratch_dir("compaction_quality");
+  std::string text;
+  {
+    std::ifstream in(source_path("examples/needles/mini.card"));
+    std::stringstream s;
+    s << in.rdbuf();
+    text = s.str();
+  }
+  const std::string materials_line = "materials       ../../potentials/ncf.materials";
+  ASSERT_NE(text.find(materials_line), std::string::npos);
+  text.replace(text.find(materials_line), materials_line.size(),
+               "materials " + source_path("potentials/ncf.materials"));
+  {
+    std::ofstream out(dir + "/draft.card");
+    out << text << "quality draft\n";
+  }
+  generate(dir + "/draft.card", dir + "/mini");
+
+  std::filesystem::current_path(dir);
+  Lammps l;
+  l.cmd("variable prefix index mini");
+  l.cmd("variable hold index 0");
+  l.cmd("variable dtfrac index 0.3");
+  l.cmd("variable here index " + source_path("examples/manufacturing"));
+  l.cmd("include " + source_path("examples/manufacturing/in.compact"));
+
+  EXPECT_EQ(l.value("v_ncf_dtfrac"), 0.7);    // the draft preset in the settings
+  EXPECT_EQ(l.value("v_dtfrac"), 0.3);        // the command line's
+  EXPECT_DOUBLE_EQ(l.value("dt"), 0.3 * l.value("v_ncf_dt_crit"));
+  EXPECT_EQ(l.value("v_pdyn"), 4e4);    // the draft preset's
+  EXPECT_EQ(l.value("v_tau"), 1000.0);
+  // (the script substitutes the speed as text, with 15 digits)
+  const double v = std::sqrt(4e4 / l.value("v_rho_mat"));
+  EXPECT_NEAR(l.value("v_speed"), v, 1e-13 * v);
+  // the plate reached t_L with the preset's speed
+  EXPECT_NEAR(l.value("v_gap"), l.value("v_ncf_thickness"), 1e-9 * l.value("v_ncf_thickness"));
+}

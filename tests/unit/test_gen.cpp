@@ -650,3 +650,186 @@ TEST(GenOutputs, SigmaThatTurnsAChainAcrossItsAxisIsAnError)
     EXPECT_THAT(e.what(), HasSubstr("reduce sigma"));
   }
 }
+
+// ------------------------------------------------------------------ quality presets
+
+namespace {
+
+// the value of "variable NAME STYLE VALUE" in a settings file, as text ("" if absent)
+std::string settings_value(const std::string &text, const std::string &name)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream w(line);
+    std::string cmd, n, style, value;
+    w >> cmd >> n >> style >> value;
+    if (cmd == "variable" && n == name) return value;
+  }
+  return "";
+}
+
+// a card without chain_diameter, fibre_mesh and yarn_mesh (they come from the preset), with
+// the given extra head lines
+std::string preset_card(const std::string &extra)
+{
+  return "name t\nmaterials " + MATERIALS + "\nseed 3\nrve 1 1\n" + extra + layer(0, 150, 1, CT24) +
+      layer(90, 150, 1, CT24) + STITCH_TRICOT_CHAIN;
+}
+
+}    // namespace
+
+TEST(GenQuality, EachPresetSetsItsResolutionAndRunParameters)
+{
+  // the values doc/ncf-gen.md documents ("Quality presets"); standard = the paper's Table 3
+  struct Expect {
+    std::string name;
+    double dc, fmesh, ymesh, dtfrac, pdyn, tau;
+  } expected[] = {
+      {"draft", 98e-6, 0.4e-3, 0.2e-3, 0.7, 4e4, 1000},
+      {"standard", 69e-6, 0.2e-3, 0.1e-3, 0.5, 1e4, 2000},
+      {"fine", 49e-6, 0.1e-3, 0.05e-3, 0.4, 5e3, 2000},
+  };
+  ASSERT_EQ(quality_presets().size(), 3u);
+  for (const auto &e : expected) {
+    SCOPED_TRACE(e.name);
+    const Card c = parse_card(preset_card("quality " + e.name + "\n"), "t.card");
+    EXPECT_EQ(c.quality, e.name);
+    EXPECT_DOUBLE_EQ(c.chain_diameter, e.dc);
+    EXPECT_DOUBLE_EQ(c.fibre_mesh, e.fmesh);
+    EXPECT_DOUBLE_EQ(c.yarn_mesh, e.ymesh);
+    EXPECT_DOUBLE_EQ(c.dtfrac, e.dtfrac);
+    EXPECT_DOUBLE_EQ(c.pdyn, e.pdyn);
+    EXPECT_DOUBLE_EQ(c.tau, e.tau);
+    for (const char *k : {"chain_diameter", "fibre_mesh", "yarn_mesh"})
+      EXPECT_FALSE(c.from_card(k));
+
+    // the model follows: chain diameter, element lengths, critical step
+    const Fabric f = build_fabric(c, materials());
+    EXPECT_DOUBLE_EQ(f.layers[0].chain.diameter, e.dc);
+    EXPECT_LE(f.layers[0].max_l0, e.fmesh * 1.5);
+    EXPECT_GE(f.layers[0].min_l0, e.dc * (1 - 1e-12));
+    const double dy = f.yarn.chain.diameter;    // 87.9 um: fine's 0.05 mm is raised to it
+    EXPECT_DOUBLE_EQ(f.card.yarn_mesh, std::max(e.ymesh, dy));
+    EXPECT_EQ(f.yarn_mesh_preset_raised > 0.0, e.ymesh < dy);
+    // (elements of at most yarn_mesh but never shorter than d_y: below 2 d_y when raised)
+    for (const Bond &b : f.stitch.bonds)
+      EXPECT_LE(b.l0, std::max(f.card.yarn_mesh, 2 * dy) * (1 + 1e-12));
+
+    // the run parameters reach the stage scripts through the settings, read back exactly
+    const std::string s = settings_text(f, "t");
+    EXPECT_EQ(settings_value(s, "ncf_quality"), e.name);
+    EXPECT_EQ(std::stod(settings_value(s, "ncf_dtfrac")), e.dtfrac);
+    EXPECT_EQ(std::stod(settings_value(s, "ncf_pdyn")), e.pdyn);
+    EXPECT_EQ(std::stod(settings_value(s, "ncf_tau")), e.tau);
+    EXPECT_THAT(s, HasSubstr("variable ncf_dtfrac index "));    // -var dtfrac still wins
+    const std::string sum = summary_text(f);
+    EXPECT_THAT(sum, HasSubstr("quality " + e.name + "\n"));
+    EXPECT_THAT(sum, ::testing::ContainsRegex("chain_diameter +[0-9.]+ um  \\(quality " + e.name));
+    EXPECT_THAT(sum, HasSubstr(e.ymesh < dy ? "raised to the yarn diameter" : "yarn_mesh"));
+  }
+  // the three presets are three different models: coarser to finer
+  const Fabric d = build_fabric(parse_card(preset_card("quality draft\n"), "t.card"), materials());
+  const Fabric s = build_fabric(parse_card(preset_card(""), "t.card"), materials());
+  const Fabric f = build_fabric(parse_card(preset_card("quality fine\n"), "t.card"), materials());
+  EXPECT_LT(d.fibres.nodes.size() * 3, s.fibres.nodes.size());
+  EXPECT_LT(s.fibres.nodes.size() * 3, f.fibres.nodes.size());
+}
+
+TEST(GenQuality, KeysOnTheCardWinOverThePreset)
+{
+  const Card c =
+      parse_card(preset_card("chain_diameter 69 um\nquality fine\nyarn_mesh 0.2 mm\n"), "t.card");
+  EXPECT_EQ(c.quality, "fine");
+  EXPECT_DOUBLE_EQ(c.chain_diameter, 69e-6);    // the card's, before or after the quality line
+  EXPECT_DOUBLE_EQ(c.yarn_mesh, 0.2e-3);
+  EXPECT_DOUBLE_EQ(c.fibre_mesh, 0.1e-3);    // the preset's
+  EXPECT_DOUBLE_EQ(c.dtfrac, 0.4);
+  EXPECT_TRUE(c.from_card("chain_diameter"));
+  EXPECT_TRUE(c.from_card("yarn_mesh"));
+  EXPECT_FALSE(c.from_card("fibre_mesh"));
+  const Fabric f = build_fabric(c, materials());
+  EXPECT_DOUBLE_EQ(f.layers[0].chain.diameter, 69e-6);
+  EXPECT_EQ(f.yarn_mesh_preset_raised, 0.0);
+  // the summary says where each value came from
+  const std::string sum = summary_text(f);
+  EXPECT_THAT(sum, ::testing::ContainsRegex("chain_diameter +69 um  \\(card\\)"));
+  EXPECT_THAT(sum, ::testing::ContainsRegex("fibre_mesh +0.1 mm  \\(quality fine\\)"));
+  EXPECT_THAT(sum, ::testing::ContainsRegex("yarn_mesh +0.2 mm  \\(card\\)"));
+  EXPECT_THAT(sum, ::testing::ContainsRegex("dtfrac .* 0.4  \\(quality fine"));
+
+  // a preset mesh shorter than a thicker chain given on the card is raised to its diameter (the
+  // finest allowed) and the summary says so; a mesh given on the card is never changed
+  const Fabric g = build_fabric(
+      parse_card(preset_card("quality fine\nchain_diameter 138 um\n"), "t.card"), materials());
+  EXPECT_DOUBLE_EQ(g.card.fibre_mesh, 138e-6);
+  EXPECT_DOUBLE_EQ(g.fibre_mesh_preset_raised, 0.1e-3);
+  EXPECT_THAT(summary_text(g), HasSubstr("the preset's 0.1 mm raised to the chain diameter"));
+  EXPECT_THROW(build_fabric(parse_card(preset_card("quality fine\nchain_diameter 138 um\n"
+                                                   "fibre_mesh 0.1 mm\n"),
+                                       "t.card"),
+                            materials()),
+               InputError);
+}
+
+TEST(GenQuality, StandardAndNoQualityKeyGiveTheSameFiles)
+{
+  // every output file byte for byte, for the paper's +-45 card as it is, with 'quality standard'
+  // added, and (which must differ) with 'quality draft'; written from the same card path, since
+  // the path is part of the files
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("ncfgen_quality_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto slurp = [](const fs::path &p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  std::string text = slurp(SRC + "/examples/gen-ncf45/ncf45.card");
+  ASSERT_THAT(text, HasSubstr("name            ncf45"));
+  ASSERT_EQ(text.find("quality"), std::string::npos);
+  const std::string materials_line = "materials       ../../potentials/ncf.materials";
+  ASSERT_NE(text.find(materials_line), std::string::npos);
+  text.replace(text.find(materials_line), materials_line.size(), "materials " + MATERIALS);
+  // the card without its resolution keys: then they come from the preset as well
+  std::string bare = text;
+  for (const char *key : {"chain_diameter", "fibre_mesh", "yarn_mesh"}) {
+    const auto pos = bare.find(std::string("\n") + key);
+    ASSERT_NE(pos, std::string::npos) << key;
+    bare.erase(pos, bare.find('\n', pos + 1) - pos);
+  }
+  const fs::path card = dir / "q.card";
+  auto run = [&](const std::string &card_text, const std::string &prefix) {
+    {
+      std::ofstream o(card);
+      o << card_text;
+    }
+    // (the prefix is part of the settings: the same name in a folder of its own)
+    fs::create_directories(dir / prefix);
+    std::string err;
+    EXPECT_TRUE(generate(card.string(), (dir / prefix / "q").string(), err)) << err;
+  };
+  run(text, "none");
+  run(text + "quality standard\n", "standard");
+  run("quality standard\n" + text, "first");
+  run(bare, "bare");
+  run(bare + "quality standard\n", "bare_standard");
+  run(bare + "quality draft\n", "bare_draft");
+  for (const char *suffix :
+       {".layers.data", ".yarn.data", ".needles", ".settings.lmp", ".yarn.lmp", ".summary"}) {
+    SCOPED_TRACE(suffix);
+    const std::string none = slurp(dir / "none" / (std::string("q") + suffix));
+    ASSERT_FALSE(none.empty());
+    EXPECT_EQ(none, slurp(dir / "standard" / (std::string("q") + suffix)));
+    EXPECT_EQ(none, slurp(dir / "first" / (std::string("q") + suffix)));
+    const std::string bare_none = slurp(dir / "bare" / (std::string("q") + suffix));
+    EXPECT_EQ(bare_none, slurp(dir / "bare_standard" / (std::string("q") + suffix)));
+    // the model itself does not depend on where the standard values came from
+    if (std::string(suffix) != ".summary") EXPECT_EQ(none, bare_none);
+    if (std::string(suffix) != ".needles" && std::string(suffix) != ".yarn.lmp")
+      EXPECT_NE(bare_none, slurp(dir / "bare_draft" / (std::string("q") + suffix)));
+  }
+  fs::remove_all(dir);
+}

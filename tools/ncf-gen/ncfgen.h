@@ -46,6 +46,26 @@ struct Lapping {
 // tricot-chain). Throws InputError with 'where' as prefix.
 Lapping parse_lapping(const std::string &text, const std::string &where);
 
+// A quality preset (card key 'quality', doc/ncf-gen.md "Quality presets"): the resolution of the
+// model and the run parameters of the stage scripts in one word. A resolution key given on the
+// card wins over its preset value; the run parameters reach the stage scripts as defaults
+// (settings variables ncf_dtfrac, ncf_pdyn, ncf_tau), which -var on the LAMMPS command line
+// overrides.
+struct QualityPreset {
+  const char *name;
+  double chain_diameter;    // d_c [m]
+  double fibre_mesh;        // target element length of the filament chains [m]; raised to d_c
+  double yarn_mesh;         // largest element length of the yarn [m]; raised to d_y
+  double dtfrac;            // time step of the stages / critical step of the bonds [-]
+  double pdyn;              // accepted dynamic pressure rho_mat v^2 of the compaction [Pa]
+  double tau;               // viscous damping: velocity relaxation time [steps]
+};
+
+// draft, standard, fine (in that order)
+const std::vector<QualityPreset> &quality_presets();
+// the preset of that name, nullptr if there is none
+const QualityPreset *find_quality(const std::string &name);
+
 struct Card {
   std::string path;                       // the card file (messages, relative paths)
   std::map<std::string, int> key_line;    // line of each global key given on the card
@@ -74,6 +94,14 @@ struct Card {
   // manufacturing (used by the stage scripts, written to the settings)
   double needle_diameter = 0.6e-3;    // needle shaft diameter [m]
   double pretension = 0.16;           // shrink of the yarn's rest length in stage 4 [-]
+  // the quality preset (no 'quality' key: standard); chain_diameter, fibre_mesh and yarn_mesh
+  // above hold its values unless the card gives them (key_line tells which)
+  std::string quality = "standard";
+  double dtfrac = 0.5;    // run parameters of the stage scripts, from the preset
+  double pdyn = 1e4;
+  double tau = 2000.0;
+  // whether a key's value came from the card (else from the quality preset)
+  bool from_card(const std::string &key) const { return key_line.count(key) > 0; }
 };
 
 // Reads and checks a card; every error names the card file, the line, the key and the value.
@@ -154,6 +182,9 @@ struct Fabric {
   // geometric check of the result: smallest distance minus contact diameter over all segment
   // pairs (periodic images included) of the layers and of the yarn [m], and the layers' distance
   double fibre_gap = 0.0, fibre_distance = 0.0, yarn_gap = 0.0;
+  // a mesh of the quality preset shorter than the diameter is raised to it (card.fibre_mesh and
+  // card.yarn_mesh then hold the raised values); the preset's value, 0 if not raised [m]
+  double fibre_mesh_preset_raised = 0.0, yarn_mesh_preset_raised = 0.0;
   int atom_types() const { return (int) layers.size() + 1; }
   int yarn_type() const { return (int) layers.size() + 1; }
 };

@@ -145,9 +145,17 @@ constexpr double MAX_CHAINS = 2e4;
 // from the target, the RVE is too narrow for the layer's areal weight
 constexpr double MAX_CHAIN_ROUNDING = 0.1;
 
-Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
+Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
 {
   Fabric f;
+  // a mesh of the quality preset shorter than the diameter it discretises (a preset with a
+  // thicker chain_diameter or yarn given on the card) is raised to that diameter, the finest
+  // mesh allowed; a mesh given on the card is never changed (too short: an error below)
+  Card card = card_given;
+  if (!card.from_card("fibre_mesh") && card.fibre_mesh < card.chain_diameter) {
+    f.fibre_mesh_preset_raised = card.fibre_mesh;
+    card.fibre_mesh = card.chain_diameter;
+  }
   f.card = card;
   f.course = card.stitch_length;
   f.needle_spacing = INCH / card.gauge;
@@ -487,6 +495,10 @@ Fabric build_fabric(const Card &card, const NCF::MaterialLibrary &lib)
                      "': " + e.what() + " (materials file " + card.materials_file + ")");
   }
   const double dy = y.chain.diameter, ry = 0.5 * dy;
+  if (!card.from_card("yarn_mesh") && card.yarn_mesh < dy) {
+    f.yarn_mesh_preset_raised = card.yarn_mesh;
+    card.yarn_mesh = f.card.yarn_mesh = dy;
+  }
   if (card.yarn_mesh < dy)
     throw InputError(at(card.path, line_of("yarn_mesh", "yarn")) + ": key 'yarn_mesh': value " +
                      num(card.yarn_mesh) + " m is shorter than the yarn diameter " + num(dy) +

@@ -173,6 +173,31 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
   return lap;
 }
 
+// ---------------------------------------------------------------------- quality presets
+
+// Resolution: standard is the paper's compromise (Table 3, section 4.5: 69 um chains, 0.2 mm
+// fibre mesh, 0.1 mm yarn mesh); draft and fine are one step of sqrt(2) in the chain diameter and
+// of 2 in the meshes to either side. Run parameters: standard is what the stage scripts were
+// tuned with (half the critical step, 1e4 Pa, 2000 steps); draft takes a larger part of the
+// critical step, a faster plate and a stronger damping, fine a smaller part of the critical step
+// and a slower plate. Their accuracy and cost: doc/accuracy_cost.md.
+const std::vector<QualityPreset> &quality_presets()
+{
+  static const std::vector<QualityPreset> presets = {
+      {"draft", 98e-6, 0.4e-3, 0.2e-3, 0.7, 4e4, 1000.0},
+      {"standard", 69e-6, 0.2e-3, 0.1e-3, 0.5, 1e4, 2000.0},
+      {"fine", 49e-6, 0.1e-3, 0.05e-3, 0.4, 5e3, 2000.0},
+  };
+  return presets;
+}
+
+const QualityPreset *find_quality(const std::string &name)
+{
+  for (const auto &q : quality_presets())
+    if (name == q.name) return &q;
+  return nullptr;
+}
+
 // ---------------------------------------------------------------------- the card
 
 Card read_card(const std::string &path)
@@ -205,7 +230,7 @@ Card parse_card(const std::string &text, const std::string &path)
       {"mass_scaling", NONE}, {"sampling", NONE},         {"pattern", NONE},
       {"gauge", NONE},        {"stitch_length", LENGTH},  {"yarn", NONE},
       {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE},
-      {"needle_diameter", LENGTH}, {"pretension", NONE}};
+      {"needle_diameter", LENGTH}, {"pretension", NONE},  {"quality", NONE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -334,12 +359,31 @@ Card parse_card(const std::string &text, const std::string &path)
         fail(where, "key 'leg_gap': value '" + val + "' must be >= 1 (legs would overlap)");
     } else if (key == "needle_diameter") {
       card.needle_diameter = positive(key);
+    } else if (key == "quality") {
+      if (!find_quality(val)) {
+        std::string known;
+        for (const auto &q : quality_presets())
+          known += std::string(known.empty() ? "" : ", ") + q.name;
+        fail(where,
+             "key 'quality': value '" + val +
+                 "' is not a quality preset (expected one of: " + known + ")");
+      }
+      card.quality = val;
     } else if (key == "pretension") {
       card.pretension = number(val, where, key) * scale;
       if (!(card.pretension >= 0.0 && card.pretension < 1.0))
         fail(where, "key 'pretension': value '" + val + "' must be in [0, 1)");
     }
   }
+
+  // the quality preset: its resolution where the card gives none, and the run parameters
+  const QualityPreset &q = *find_quality(card.quality);
+  if (!seen.count("chain_diameter")) card.chain_diameter = q.chain_diameter;
+  if (!seen.count("fibre_mesh")) card.fibre_mesh = q.fibre_mesh;
+  if (!seen.count("yarn_mesh")) card.yarn_mesh = q.yarn_mesh;
+  card.dtfrac = q.dtfrac;
+  card.pdyn = q.pdyn;
+  card.tau = q.tau;
 
   // completeness
   if (card.layers.empty()) fail(at(path, lineno), "the card has no 'layer' block");

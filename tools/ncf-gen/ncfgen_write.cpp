@@ -182,7 +182,17 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   s += "variable ncf_needle_d equal " + g(f.card.needle_diameter) +
       "  # needle shaft diameter, stage 2 [m]\n";
   s += "variable ncf_pretension equal " + g(f.card.pretension) +
-      "  # shrink of the yarn's rest length, stage 4 [-]\n\n";
+      "  # shrink of the yarn's rest length, stage 4 [-]\n";
+  // the run parameters of the quality preset: index variables, the defaults of the stage
+  // scripts' dtfrac, pdyn and tau (-var on the command line wins over both)
+  const Card &c = f.card;
+  s += "variable ncf_quality string " + c.quality + "  # the card's quality preset\n";
+  s += "variable ncf_dtfrac index " + g(c.dtfrac) +
+      "  # time step / ncf_dt_crit of the stages (quality " + c.quality + ") [-]\n";
+  s += "variable ncf_pdyn index " + g(c.pdyn) +
+      "  # accepted dynamic pressure of the compaction (quality " + c.quality + ") [Pa]\n";
+  s += "variable ncf_tau index " + g(c.tau) +
+      "  # viscous damping relaxation time of the stages (quality " + c.quality + ") [steps]\n\n";
   for (int i = 0; i < nl; i++) {
     const LayerInfo &L = f.layers[i];
     s += "bond_coeff " + std::to_string(i + 1) + " ea " + g(L.chain.ea) + "  # layer " +
@@ -227,6 +237,31 @@ std::string summary_text(const Fabric &f)
   s += "ncf-gen summary of '" + c.name + "' (card " + c.path + ")\n";
   s += "seed " + std::to_string(c.seed) + ", angle sampling " +
       (c.stratified ? "stratified" : "random") + ", materials " + c.materials_file + "\n\n";
+  // the quality preset and, for each value it sets, where the value came from
+  const std::string preset = "(quality " + c.quality + ")";
+  auto origin = [&](const std::string &key) {
+    return c.from_card(key) ? std::string("(card)") : preset;
+  };
+  s += "quality " + c.quality + "\n";
+  line("chain_diameter", fmt("%g um  ", c.chain_diameter * 1e6) + origin("chain_diameter"));
+  line("fibre_mesh",
+       fmt("%g mm  ", c.fibre_mesh * 1e3) + origin("fibre_mesh") +
+           (f.fibre_mesh_preset_raised > 0.0
+                ? fmt(": the preset's %g mm raised to the chain diameter",
+                      f.fibre_mesh_preset_raised * 1e3)
+                : ""));
+  line("yarn_mesh",
+       fmt("%g mm  ", c.yarn_mesh * 1e3) + origin("yarn_mesh") +
+           (f.yarn_mesh_preset_raised > 0.0
+                ? fmt(": the preset's %g mm raised to the yarn diameter",
+                      f.yarn_mesh_preset_raised * 1e3)
+                : ""));
+  // (the stage scripts take these as defaults: -var on the LAMMPS command line overrides them)
+  const std::string run = "(quality " + c.quality + "; stage scripts' default)";
+  line("dtfrac (time step / critical step)", fmt("%g  ", c.dtfrac) + run);
+  line("pdyn (compaction dynamic pressure)", fmt("%g Pa  ", c.pdyn) + run);
+  line("tau (damping time of the stages)", fmt("%g steps  ", c.tau) + run);
+  s += "\n";
   s += "RVE\n";
   line("pattern",
        c.pattern.text + "  (repeat " + std::to_string(c.pattern.repeat) + " course" +
