@@ -45,11 +45,11 @@ using namespace FixConst;
 
 FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), ivar(-1),
-    ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0)
+    ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0), nvisit(0)
 {
   scalar_flag = 1;
   vector_flag = 1;
-  size_vector = 5;
+  size_vector = 6;
   array_flag = 1;
   size_array_cols = 3;
   global_freq = 1;
@@ -130,6 +130,11 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   for (double d : chain_d) any |= d > 0.0;
   if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
   if (tip < 0.0) tip = radius;
+  // the largest z margin of a segment (see post_force): its contact radius rc plus the height of
+  // the point's cone at rc from its surface, for the largest chain diameter
+  double dmax = 0.0;
+  for (double d : chain_d) dmax = std::max(dmax, d);
+  margin_max = 0.5 * dmax * (1.0 + tip / radius);
   if (length < 0.0) length = domain->boxhi[2] - domain->boxlo[2];
   if (length < NCF::needle_min_length(tip))
     error->all(FLERR,
@@ -234,7 +239,7 @@ void FixNCFNeedles::post_force(int /*vflag*/)
   const int nlocal = atom->nlocal;
   const int nn = (int) nx.size();
 
-  std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, max pen
+  std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, visits
   double emine = 0.0, penmine = 0.0;
   int cmine = 0, missing = 0;
   NCF::Needle needle;
@@ -243,11 +248,26 @@ void FixNCFNeedles::post_force(int /*vflag*/)
   needle.radius = radius;
   needle.tip = tip;
   needle.length = length;
-  for (int i = 0; i < nlocal; i++) {
+  // needles out of reach of every chain node here (owned or ghost: the segments of the owned
+  // nodes end at one of them) are out of reach of every segment: no per-segment work at all,
+  // only this bound on the nodes' heights (the margin of the largest chain diameter, below)
+  const double zb = ztip, ze = ztip - direction * length;
+  const double nlo = std::min(zb, ze), nhi = std::max(zb, ze);
+  const int nall = nlocal + atom->nghost;
+  double zlo = 1e300, zhi = -1e300;
+  for (int i = 0; i < nall; i++)
+    if ((mask[i] & groupbit) && chain_d[type[i]] > 0.0) {
+      zlo = std::min(zlo, x[i][2]);
+      zhi = std::max(zhi, x[i][2]);
+    }
+  const bool reach = nhi >= zlo - margin_max && nlo <= zhi + margin_max;
+  double visits = 0.0;
+  for (int i = 0; reach && i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double di = chain_d[type[i]];
     if (di <= 0.0) continue;
     for (int s = 0; s < nspecial[i][0]; s++) {
+      visits += 1.0;
       int j = atom->map(special[i][s]);
       if (j < 0) {
         missing++;
@@ -263,8 +283,7 @@ void FixNCFNeedles::post_force(int /*vflag*/)
       // the segment's extent in z, to skip needles whose body does not reach it
       const double margin = rc + rc * tip / radius;
       const double zmin = std::min(a0.z, a1.z) - margin, zmax = std::max(a0.z, a1.z) + margin;
-      const double zb = ztip, ze = ztip - direction * length;
-      if (std::max(zb, ze) < zmin || std::min(zb, ze) > zmax) continue;
+      if (nhi < zmin || nlo > zmax) continue;
       const double half = 0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
       for (int k = 0; k < nn; k++) {
         // the needle's closest image to the segment's midpoint
@@ -292,12 +311,14 @@ void FixNCFNeedles::post_force(int /*vflag*/)
     error->one(FLERR, "fix ncf/needles: {} bond partner(s) of local nodes are missing", missing);
   local[3 * nn] = emine;
   local[3 * nn + 1] = cmine;
+  local[3 * nn + 2] = visits;
   std::vector<double> all(local.size());
   MPI_Allreduce(local.data(), all.data(), (int) local.size(), MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&penmine, &maxpen, 1, MPI_DOUBLE, MPI_MAX, world);
   std::copy(all.begin(), all.begin() + 3 * nn, fneedle.begin());
   energy = all[3 * nn];
   ncontact = (int) std::lround(all[3 * nn + 1] / 2.0);    // each segment seen from both nodes
+  nvisit = all[3 * nn + 2];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -308,11 +329,12 @@ double FixNCFNeedles::compute_scalar()
 }
 
 // 1 tip height, 2 total force of the fabric on the needles along z, 3 segment-needle contacts,
-// 4 largest penetration, 5 largest lateral force on one needle
+// 4 largest penetration, 5 largest lateral force on one needle, 6 segment visits of the last step
 double FixNCFNeedles::compute_vector(int n)
 {
   const int nn = (int) nx.size();
   if (n == 0) return ztip;
+  if (n == 5) return nvisit;
   if (n == 1) {
     double fz = 0.0;
     for (int k = 0; k < nn; k++) fz += fneedle[3 * k + 2];

@@ -55,6 +55,8 @@ class FixNCFNeedles : public Fix {
   std::vector<double> fneedle;    // per needle: force of the fabric on the needle (3), reduced
   double energy, maxpen;
   int ncontact;
+  double nvisit;        // segment visits (node, bond partner) of the last step, all ranks
+  double margin_max;    // largest z margin of a segment from its nodes' heights
 
   std::vector<int> imgtype;
   std::vector<double> imgbuf;

@@ -169,6 +169,31 @@ TEST(FixNeedles, TipAboveTheChainTouchesNothingThenPiercing)
   EXPECT_EQ(l.value("f_nd[1]"), -6e-4);    // stopped at the target
 }
 
+// needles out of reach cost nothing per segment: output 6 counts the segment visits (a node and
+// one of its bond partners) of the last step; with the needles' body above every node by more
+// than the margin of a segment (its radius and the point's cone) there are none at all
+TEST(FixNeedles, OutOfReachVisitsNoSegment)
+{
+  auto dir = scratch_dir("needles_reach");
+  Lammps l;
+  load(l, write_chain(dir, 4, 1e-3, 0.0));
+  const double tip = 0.3e-3, margin = 0.5 * DC * (1.0 + tip / (0.5 * DN));
+  // tip just beyond the margin above the chain axis, then just within it, then through the chain
+  l.cmd(fmt::format("variable zt equal {}", 1.01 * margin));
+  l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 2e-4 v_zt tip {} length 2e-3",
+                    DN, KN, DC, tip));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 0.0);
+  EXPECT_EQ(l.value("f_nd[3]"), 0.0);
+  l.cmd(fmt::format("variable zt equal {}", 0.99 * margin));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 8.0);    // 4 nodes, 2 bond partners each
+  l.cmd("variable zt equal -4e-4");
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 8.0);
+  EXPECT_EQ(l.value("f_nd[3]"), 1.0);
+}
+
 struct BadNeedle {
   const char *args;
   const char *message;
