@@ -45,11 +45,11 @@ using namespace FixConst;
 
 FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), radius(0.0), tip(-1.0), length(-1.0), kn(0.0), direction(-1), ivar(-1),
-    ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0)
+    ztip(0.0), energy(0.0), maxpen(0.0), ncontact(0), nvisit(0)
 {
   scalar_flag = 1;
   vector_flag = 1;
-  size_vector = 5;
+  size_vector = 6;
   array_flag = 1;
   size_array_cols = 3;
   global_freq = 1;
@@ -130,6 +130,12 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   for (double d : chain_d) any |= d > 0.0;
   if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
   if (tip < 0.0) tip = radius;
+  // the largest z margin of a segment (see post_force): its contact radius rc plus the height of
+  // the point's cone at rc from its surface, for the largest chain diameter
+  double dmax = 0.0;
+  for (double d : chain_d) dmax = std::max(dmax, d);
+  margin_max = 0.5 * dmax * (1.0 + tip / radius);
+  dmax_chain = dmax;
   if (length < 0.0) length = domain->boxhi[2] - domain->boxlo[2];
   if (length < NCF::needle_min_length(tip))
     error->all(FLERR,
@@ -222,19 +228,91 @@ void FixNCFNeedles::setup(int vflag)
   post_force(vflag);
 }
 
+/* ----------------------------------------------------------------------
+   the needles binned in the plane (their positions are fixed there), so that a segment tests
+   only the needles of the cells within its reach: the cost of a step grows with the segments,
+   not with segments times needles. Cells at least a needle diameter plus the thickest chain wide
+   (one cell along a direction that is not periodic or in a triclinic box); binned again when the
+   box changes
+------------------------------------------------------------------------- */
+
+void FixNCFNeedles::bin_needles()
+{
+  const double lo[2] = {domain->boxlo[0], domain->boxlo[1]};
+  const double prd[2] = {domain->xprd, domain->yprd};
+  if (!cell_first.empty() && lo[0] == cell_lo[0] && lo[1] == cell_lo[1] && prd[0] == cell_prd[0] &&
+      prd[1] == cell_prd[1])
+    return;
+  const double want = 2.0 * radius + dmax_chain;
+  for (int d = 0; d < 2; d++) {
+    ncell[d] = 1;
+    if (domain->periodicity[d] && !domain->triclinic && prd[d] > 0.0)
+      ncell[d] = std::max(1, std::min(1024, (int) (prd[d] / want)));
+    cell_lo[d] = lo[d];
+    cell_prd[d] = prd[d];
+    cell_size[d] = prd[d] / ncell[d];
+  }
+  const int nn = (int) nx.size(), ncells = ncell[0] * ncell[1];
+  std::vector<int> of(nn);
+  cell_first.assign(ncells + 1, 0);
+  for (int k = 0; k < nn; k++) {
+    int c[2];
+    const double xy[2] = {nx[k], ny[k]};
+    for (int d = 0; d < 2; d++) {
+      double u = (xy[d] - lo[d]) / cell_size[d];
+      if (ncell[d] > 1) u -= ncell[d] * std::floor(u / ncell[d]);    // wrapped into the box
+      c[d] = std::min(ncell[d] - 1, std::max(0, (int) u));
+    }
+    of[k] = c[0] + ncell[0] * c[1];
+    cell_first[of[k] + 1]++;
+  }
+  for (int c = 0; c < ncells; c++) cell_first[c + 1] += cell_first[c];
+  cell_needle.assign(nn, 0);
+  std::vector<int> next(cell_first.begin(), cell_first.end() - 1);
+  for (int k = 0; k < nn; k++) cell_needle[next[of[k]]++] = k;
+}
+
+// contact of the segment a0-a1 (visited from its node i) with needle k at its closest image
+void FixNCFNeedles::needle_segment(int k, int i, const NCF::Vec3 &a0, const NCF::Vec3 &a1,
+                                   double rc, double half, NCF::Needle &needle,
+                                   std::vector<double> &local, double &emine, double &penmine,
+                                   int &cmine)
+{
+  double **f = atom->f;
+  // the needle's closest image to the segment's midpoint
+  double d[3] = {0.5 * (a0.x + a1.x) - nx[k], 0.5 * (a0.y + a1.y) - ny[k], 0.0};
+  NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);
+  if (d[0] * d[0] + d[1] * d[1] > (half + radius + rc) * (half + radius + rc)) return;
+  needle.x = 0.5 * (a0.x + a1.x) - d[0];
+  needle.y = 0.5 * (a0.y + a1.y) - d[1];
+  const NCF::NeedleContact c = NCF::needle_contact(a0, a1, rc, needle, kn);
+  if (!c.active) return;
+  // visited from both nodes: each applies its own node's force, and half the energy
+  f[i][0] += c.f[0].x;
+  f[i][1] += c.f[0].y;
+  f[i][2] += c.f[0].z;
+  local[3 * k + 0] -= c.f[0].x;
+  local[3 * k + 1] -= c.f[0].y;
+  local[3 * k + 2] -= c.f[0].z;
+  emine += 0.5 * c.energy;
+  penmine = std::max(penmine, c.penetration);
+  cmine++;
+}
+
 /* ---------------------------------------------------------------------- */
 
 void FixNCFNeedles::post_force(int /*vflag*/)
 {
   update_tip();
-  double **x = atom->x, **f = atom->f;
+  bin_needles();
+  double **x = atom->x;
   int *mask = atom->mask, *type = atom->type;
   tagint **special = atom->special;
   int **nspecial = atom->nspecial;
   const int nlocal = atom->nlocal;
   const int nn = (int) nx.size();
 
-  std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, max pen
+  std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, visits
   double emine = 0.0, penmine = 0.0;
   int cmine = 0, missing = 0;
   NCF::Needle needle;
@@ -243,11 +321,26 @@ void FixNCFNeedles::post_force(int /*vflag*/)
   needle.radius = radius;
   needle.tip = tip;
   needle.length = length;
-  for (int i = 0; i < nlocal; i++) {
+  // needles out of reach of every chain node here (owned or ghost: the segments of the owned
+  // nodes end at one of them) are out of reach of every segment: no per-segment work at all,
+  // only this bound on the nodes' heights (the margin of the largest chain diameter, below)
+  const double zb = ztip, ze = ztip - direction * length;
+  const double nlo = std::min(zb, ze), nhi = std::max(zb, ze);
+  const int nall = nlocal + atom->nghost;
+  double zlo = 1e300, zhi = -1e300;
+  for (int i = 0; i < nall; i++)
+    if ((mask[i] & groupbit) && chain_d[type[i]] > 0.0) {
+      zlo = std::min(zlo, x[i][2]);
+      zhi = std::max(zhi, x[i][2]);
+    }
+  const bool reach = nhi >= zlo - margin_max && nlo <= zhi + margin_max;
+  double visits = 0.0;
+  for (int i = 0; reach && i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double di = chain_d[type[i]];
     if (di <= 0.0) continue;
     for (int s = 0; s < nspecial[i][0]; s++) {
+      visits += 1.0;
       int j = atom->map(special[i][s]);
       if (j < 0) {
         missing++;
@@ -263,41 +356,43 @@ void FixNCFNeedles::post_force(int /*vflag*/)
       // the segment's extent in z, to skip needles whose body does not reach it
       const double margin = rc + rc * tip / radius;
       const double zmin = std::min(a0.z, a1.z) - margin, zmax = std::max(a0.z, a1.z) + margin;
-      const double zb = ztip, ze = ztip - direction * length;
-      if (std::max(zb, ze) < zmin || std::min(zb, ze) > zmax) continue;
+      if (nhi < zmin || nlo > zmax) continue;
       const double half = 0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
-      for (int k = 0; k < nn; k++) {
-        // the needle's closest image to the segment's midpoint
-        double d[3] = {0.5 * (a0.x + a1.x) - nx[k], 0.5 * (a0.y + a1.y) - ny[k], 0.0};
-        NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);
-        if (d[0] * d[0] + d[1] * d[1] > (half + radius + rc) * (half + radius + rc)) continue;
-        needle.x = 0.5 * (a0.x + a1.x) - d[0];
-        needle.y = 0.5 * (a0.y + a1.y) - d[1];
-        const NCF::NeedleContact c = NCF::needle_contact(a0, a1, rc, needle, kn);
-        if (!c.active) continue;
-        // visited from both nodes: each applies its own node's force, and half the energy
-        f[i][0] += c.f[0].x;
-        f[i][1] += c.f[0].y;
-        f[i][2] += c.f[0].z;
-        local[3 * k + 0] -= c.f[0].x;
-        local[3 * k + 1] -= c.f[0].y;
-        local[3 * k + 2] -= c.f[0].z;
-        emine += 0.5 * c.energy;
-        penmine = std::max(penmine, c.penetration);
-        cmine++;
+      // the needles of the cells within reach of the segment's midpoint (each cell once)
+      const double reach = half + radius + rc;
+      const double mid[2] = {0.5 * (a0.x + a1.x), 0.5 * (a0.y + a1.y)};
+      int c0[2], c1[2];
+      for (int dd = 0; dd < 2; dd++) {
+        c0[dd] = 0;
+        c1[dd] = ncell[dd] - 1;
+        if (ncell[dd] == 1) continue;
+        const int lo = (int) std::floor((mid[dd] - reach - cell_lo[dd]) / cell_size[dd]);
+        const int hi = (int) std::floor((mid[dd] + reach - cell_lo[dd]) / cell_size[dd]);
+        if (hi - lo + 1 < ncell[dd]) c0[dd] = lo, c1[dd] = hi;
       }
+      for (int cy = c0[1]; cy <= c1[1]; cy++)
+        for (int cx = c0[0]; cx <= c1[0]; cx++) {
+          const int cell = ((cx % ncell[0]) + ncell[0]) % ncell[0] +
+              ncell[0] * (((cy % ncell[1]) + ncell[1]) % ncell[1]);
+          for (int q = cell_first[cell]; q < cell_first[cell + 1]; q++) {
+            const int k = cell_needle[q];
+            needle_segment(k, i, a0, a1, rc, half, needle, local, emine, penmine, cmine);
+          }
+        }
     }
   }
   if (missing)
     error->one(FLERR, "fix ncf/needles: {} bond partner(s) of local nodes are missing", missing);
   local[3 * nn] = emine;
   local[3 * nn + 1] = cmine;
+  local[3 * nn + 2] = visits;
   std::vector<double> all(local.size());
   MPI_Allreduce(local.data(), all.data(), (int) local.size(), MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&penmine, &maxpen, 1, MPI_DOUBLE, MPI_MAX, world);
   std::copy(all.begin(), all.begin() + 3 * nn, fneedle.begin());
   energy = all[3 * nn];
   ncontact = (int) std::lround(all[3 * nn + 1] / 2.0);    // each segment seen from both nodes
+  nvisit = all[3 * nn + 2];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -308,11 +403,12 @@ double FixNCFNeedles::compute_scalar()
 }
 
 // 1 tip height, 2 total force of the fabric on the needles along z, 3 segment-needle contacts,
-// 4 largest penetration, 5 largest lateral force on one needle
+// 4 largest penetration, 5 largest lateral force on one needle, 6 segment visits of the last step
 double FixNCFNeedles::compute_vector(int n)
 {
   const int nn = (int) nx.size();
   if (n == 0) return ztip;
+  if (n == 5) return nvisit;
   if (n == 1) {
     double fz = 0.0;
     for (int k = 0; k < nn; k++) fz += fneedle[3 * k + 2];

@@ -17,6 +17,7 @@ FixStyle(ncf/needles,FixNCFNeedles);
 #include "fix.h"
 #include "ncf_clock_lammps.h"
 #include "ncf_motion.h"
+#include "ncf_needle.h"
 
 #include <string>
 #include <vector>
@@ -55,12 +56,24 @@ class FixNCFNeedles : public Fix {
   std::vector<double> fneedle;    // per needle: force of the fabric on the needle (3), reduced
   double energy, maxpen;
   int ncontact;
+  double nvisit;        // segment visits (node, bond partner) of the last step, all ranks
+  double margin_max;    // largest z margin of a segment from its nodes' heights
+  double dmax_chain;    // largest chain diameter
+
+  // the needles binned in the plane (bin_needles)
+  int ncell[2] = {1, 1};
+  double cell_lo[2] = {0.0, 0.0}, cell_size[2] = {1.0, 1.0}, cell_prd[2] = {0.0, 0.0};
+  std::vector<int> cell_first, cell_needle;
 
   std::vector<int> imgtype;
   std::vector<double> imgbuf;
   std::vector<double *> imgrows;
 
   void read_needles(const std::string &file);
+  void bin_needles();
+  void needle_segment(int k, int i, const NCF::Vec3 &a0, const NCF::Vec3 &a1, double rc,
+                      double half, NCF::Needle &needle, std::vector<double> &local, double &emine,
+                      double &penmine, int &cmine);
   void update_tip();
 };
 

@@ -498,6 +498,9 @@ int FixNCFPlate::pack_restart(int i, double *buf)
 
 void FixNCFPlate::unpack_restart(int nlocal, int nth)
 {
+  // LAMMPS hands the stored rows to a fix of the same ID and style whatever its friction: the
+  // plate defined again without friction (mu 0) keeps no history and drops them
+  if (!use_history) return;
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);

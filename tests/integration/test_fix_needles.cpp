@@ -9,7 +9,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <string>
+#include <vector>
 #include <cstdio>
 
 using namespace ncftest;
@@ -130,6 +133,42 @@ TEST(FixNeedles, NeedleAcrossThePeriodicBoundary)
   EXPECT_NEAR(f2, f1, 1e-12 * std::fabs(f1));
 }
 
+// many needles, binned in the plane (cells of ~ a needle diameter): every needle still gets the
+// force of every segment it touches, also across the periodic faces (x: the ring's box; y: the
+// needles at the lower face touch the chain through its image at the upper face)
+TEST(FixNeedles, ManyNeedlesEachTheKernelForce)
+{
+  auto dir = scratch_dir("needles_many");
+  const int n = 4;
+  const double a = 1e-3, y0 = 1.9e-3;
+  Lammps l;
+  load(l, write_chain(dir, n, a, y0));
+  std::string at;
+  std::vector<std::array<double, 2>> pos;
+  for (int i = 0; i < 9; i++)
+    for (double yn : {y0 + 0.2e-3 - 4e-3, y0 - 0.2e-3, 0.0}) {
+      pos.push_back({0.05e-3 + i * 0.45e-3, yn});
+      at += fmt::format(" at {} {}", pos.back()[0], yn);
+    }
+  l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {}{} move -1e-4 0 length 1.5e-3 tip 1e-4",
+                    DN, KN, DC, at));
+  l.cmd("run 0");
+  int touching = 0;
+  for (std::size_t k = 0; k < pos.size(); k++) {
+    // the needle at its image nearest to the chain in y (the kernel helper wraps x only)
+    double yk = pos[k][1];
+    if (yk < y0 - 2e-3) yk += 4e-3;
+    auto expect = kernel_force_on_needle(n, a, y0, pos[k][0], yk, -1e-4, 1.5e-3, 1e-4);
+    touching += std::fabs(expect.y) > 0.0;
+    for (int d = 0; d < 2; d++) {
+      const double want = d ? expect.y : expect.x;
+      EXPECT_NEAR(l.value(fmt::format("f_nd[{}][{}]", k + 1, d + 1)), want, 1e-9 * std::fabs(expect.y) + 1e-15)
+          << "needle " << k + 1 << " at " << pos[k][0] << " " << pos[k][1];
+    }
+  }
+  EXPECT_GE(touching, 12);
+}
+
 TEST(FixNeedles, PointUpMirrorsPointDown)
 {
   // a needle coming up from below (direction up) meets the chain as its mirror image coming down
@@ -167,6 +206,31 @@ TEST(FixNeedles, TipAboveTheChainTouchesNothingThenPiercing)
   EXPECT_EQ(l.value("f_nd[3]"), 1.0);
   l.cmd("run 1000");
   EXPECT_EQ(l.value("f_nd[1]"), -6e-4);    // stopped at the target
+}
+
+// needles out of reach cost nothing per segment: output 6 counts the segment visits (a node and
+// one of its bond partners) of the last step; with the needles' body above every node by more
+// than the margin of a segment (its radius and the point's cone) there are none at all
+TEST(FixNeedles, OutOfReachVisitsNoSegment)
+{
+  auto dir = scratch_dir("needles_reach");
+  Lammps l;
+  load(l, write_chain(dir, 4, 1e-3, 0.0));
+  const double tip = 0.3e-3, margin = 0.5 * DC * (1.0 + tip / (0.5 * DN));
+  // tip just beyond the margin above the chain axis, then just within it, then through the chain
+  l.cmd(fmt::format("variable zt equal {}", 1.01 * margin));
+  l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 2e-4 v_zt tip {} length 2e-3",
+                    DN, KN, DC, tip));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 0.0);
+  EXPECT_EQ(l.value("f_nd[3]"), 0.0);
+  l.cmd(fmt::format("variable zt equal {}", 0.99 * margin));
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 8.0);    // 4 nodes, 2 bond partners each
+  l.cmd("variable zt equal -4e-4");
+  l.cmd("run 0");
+  EXPECT_EQ(l.value("f_nd[6]"), 8.0);
+  EXPECT_EQ(l.value("f_nd[3]"), 1.0);
 }
 
 struct BadNeedle {

@@ -194,6 +194,43 @@ timestep 1e-8
   EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
 }
 
+// the plate of a restart file with friction, defined again without it: no history is kept (the
+// stored slip is dropped, no tangential force), the contact itself continues
+TEST(FixPlate, RestartWithoutFrictionDropsTheHistory)
+{
+  auto dir = scratch_dir("plate_restart_mu0");
+  auto mat = write_mat(dir, 3.0, 31);
+  // pressed down on the plate and pulled sideways (the friction force of the slip springs)
+  const char *setup = R"(
+fix press all addforce 0 0 -1e-4
+fix pull all addforce 1e-5 0 0
+fix damp all viscous 1e-7
+fix nve all nve
+timestep 1e-8
+)";
+  {
+    Lammps l;
+    load_mat(l, mat);
+    // the lowest chains (axes at z = 0.3 mm) on a lower plate, 0.1 um into it
+    l.cmd("fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower z 0.2656e-3");
+    l.cmds(setup);
+    l.cmd("run 200");
+    EXPECT_GT(l.value("f_plate[7]"), 0.0);
+    EXPECT_NE(l.value("f_plate[11]"), 0.0);    // friction with a stored slip
+    l.cmd("write_restart " + dir + "/fric.restart");
+  }
+  Lammps r;
+  r.cmd("read_restart " + dir + "/fric.restart");
+  r.cmds("fix NCF_NODE all property/atom i_ncf_layer i_ncf_end\nfix MASS all property/atom rmass\n"
+         "neighbor 1e-4 bin\ncomm_modify cutoff 6e-4");
+  r.cmd("fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.2656e-3");
+  r.cmds(setup);
+  r.cmd("run 100");
+  EXPECT_GT(r.value("f_plate[7]"), 0.0);     // still in contact
+  EXPECT_EQ(r.value("f_plate[11]"), 0.0);    // and frictionless
+  EXPECT_EQ(r.value("f_plate[12]"), 0.0);
+}
+
 struct BadPlate {
   const char *args;
   const char *message;
