@@ -41,11 +41,12 @@ inline Box wrapped_box()
   return b;
 }
 
-// the data file of the wrapped scene with the thick chain at x -1.6 .. -0.1 mm (its end cap
-// reaches 11 segments of the helix, which begins at 0.05 mm); ids as write_data
-inline std::string scene(const std::string &path, const std::vector<int> &ids = {})
+// the data file of the wrapped scene with the thick chain at x x0 .. x0 + 1.5 mm (default -1.6
+// mm: its end cap reaches 11 segments of the helix, which begins at 0.05 mm); ids as write_data
+inline std::string scene(const std::string &path, const std::vector<int> &ids = {},
+                         double x0 = -1.6e-3)
 {
-  return write_data(path, wrapped(-1.6e-3, DTHICK), wrapped_box(), NODE_MASS, 2, ids);
+  return write_data(path, wrapped(x0, DTHICK), wrapped_box(), NODE_MASS, 2, ids);
 }
 
 // the comb (contactscene::comb, thick chain first as there) at x0 = 0
