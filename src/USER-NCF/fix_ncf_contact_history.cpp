@@ -137,6 +137,13 @@ void FixNCFContactHistory::agree(int n)
   widen(all);
 }
 
+void FixNCFContactHistory::set_row(int i, const double *row)
+{
+  const int n = (int) row[0];
+  widen(n);
+  if (hist) memcpy(hist[i], row, sizeof(double) * (1 + SLOT * n));
+}
+
 void FixNCFContactHistory::grow_arrays(int n)
 {
   if (nslots > 0) {

@@ -62,6 +62,8 @@ class FixNCFContactHistory : public Fix {
   void widen(int n);
   // at least n slots, and as many as the widest rank has (collective)
   void agree(int n);
+  // row i set to `row` (its number of contacts first), widened if needed; not collective
+  void set_row(int i, const double *row);
 
  private:
   double **hist;

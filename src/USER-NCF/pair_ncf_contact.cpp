@@ -109,7 +109,8 @@ void PairNCFContact::attach_history_store()
 {
   // (restart data not yet handed out exist only before the first run after read_restart; the
   // fix created with the pair style in read_restart came before them)
-  if (modify->nfix_restart_peratom > 0 && modify->get_fix_by_id(FixNCFContactHistory::ID))
+  const bool after_restart = modify->nfix_restart_peratom > 0;
+  if (after_restart && modify->get_fix_by_id(FixNCFContactHistory::ID))
     modify->add_fix(fmt::format("{} all ncf/contact/history", FixNCFContactHistory::ID));
   else
     create_history_fix();
@@ -117,7 +118,31 @@ void PairNCFContact::attach_history_store()
   if (!fhist)
     error->all(FLERR, "pair ncf/contact: fix {} is not of style ncf/contact/history",
                FixNCFContactHistory::ID);
+  if (after_restart) import_old_history();
   fhist->agree(maxcontacts);
+}
+
+// a restart file of a version that kept the history in a fix property/atom (ID OLD_HIST_ID, 1 +
+// 6 maxcontacts columns, maxcontacts of the file's pair style): that fix is created for a moment
+// to take its per-atom data (rows of zeros if the file has none), its rows copied into the empty
+// rows of the store, and deleted
+void PairNCFContact::import_old_history()
+{
+  if (modify->get_fix_by_id(OLD_HIST_ID)) return;
+  const int ncol = 1 + FixNCFContactHistory::SLOT * maxcontacts;
+  modify->add_fix(
+      fmt::format("{} all property/atom d2_ncf_chist {} ghost no writedata no", OLD_HIST_ID, ncol));
+  int flag, cols;
+  const int idx = atom->find_custom("ncf_chist", flag, cols);
+  if (idx >= 0 && flag == 1 && cols == ncol) {
+    double **old = atom->darray[idx];
+    for (int i = 0; i < atom->nlocal; i++) {
+      const int n = (int) old[i][0];
+      const bool empty = !fhist->rows() || fhist->rows()[i][0] == 0.0;
+      if (n > 0 && n <= maxcontacts && empty) fhist->set_row(i, old[i]);
+    }
+  }
+  modify->delete_fix(OLD_HIST_ID);
 }
 
 PairNCFContact::~PairNCFContact()

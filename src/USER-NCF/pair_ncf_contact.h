@@ -27,6 +27,8 @@ class PairNCFContact : public Pair {
   // IDs of the fix property/atom stores created by the style
   static constexpr const char *TOPO_ID = "NCF_CONTACT_TOPO";    // chain neighbours (ghost yes)
   static constexpr const char *FORCE_ID = "NCF_CONTACT_F";      // per-atom |contact force|
+  // the fix property/atom that held the friction history in restart files of earlier versions
+  static constexpr const char *OLD_HIST_ID = "NCF_CONTACT_HIST";
 
   PairNCFContact(class LAMMPS *);
   ~PairNCFContact() override;
@@ -191,6 +193,7 @@ class PairNCFContact : public Pair {
   void create_stores();
   void create_history_fix();
   void attach_history_store();
+  void import_old_history();
   void fill_topology();
   void find_lmax();
   void check_coincident(const std::vector<double> &xall);

@@ -169,3 +169,42 @@ TEST(PairContactGrowth, SameResultWhateverTheNumbering)
            r == &b ? "thin chains first" : "at random", worst);
   }
 }
+
+// a restart file in the format of earlier versions (the history in a fix property/atom
+// NCF_CONTACT_HIST of 1 + 6 maxcontacts columns): made here by copying a run's history into such a
+// fix and emptying the store (unfix: write_restart creates it again, empty); read back, the
+// history is taken over into the store
+TEST(PairContactGrowth, RestartFileOfEarlierVersions)
+{
+  auto dir = scratch_dir("contact_growth_old_restart");
+  const std::string data = scene(dir + "/w.data");
+  const std::string style = std::string(STYLE) + " maxcontacts 20";
+  History written;
+  {
+    Lammps l;
+    define(l, data, style);
+    l.cmd("run 20");
+    written = history_of(l);
+    ASSERT_FALSE(written.empty());
+    ASSERT_LE(most_contacts(l), 20);
+    l.cmd("fix NCF_CONTACT_HIST all property/atom d2_ncf_chist 121 ghost no writedata no");
+    std::map<double, int> n;
+    for (const auto &kv : written) {
+      const int id = (int) kv.first[0], k = n[kv.first[0]]++;
+      const double v[6] = {kv.first[1],  kv.first[2],  kv.first[3],
+                           kv.second[0], kv.second[1], kv.second[2]};
+      for (int c = 0; c < 6; c++)
+        l.cmd(fmt::format("set atom {} d2_ncf_chist[{}] {:.17g}", id, 2 + 6 * k + c, v[c]));
+    }
+    for (const auto &kv : n)
+      l.cmd(fmt::format("set atom {} d2_ncf_chist[1] {}", (int) kv.first, kv.second));
+    l.cmd("unfix NCF_CONTACT_HISTORY");
+    l.cmd("write_restart " + dir + "/old.restart");
+  }
+  Lammps l;
+  l.cmd("read_restart " + dir + "/old.restart");
+  l.cmds("bond_style ncf/chain dtcheck no\n" + settings(style));
+  l.cmd("run 0");
+  EXPECT_TRUE(history_of(l) == written) << "the history of the file taken over";
+  EXPECT_EQ(l.lmp->modify->get_fix_by_id("NCF_CONTACT_HIST"), nullptr);
+}
