@@ -1,11 +1,14 @@
 // pair ncf/contact: the friction history store grows when a node has more contacts than it has
-// slots (maxcontacts), and the result does not depend on how the atoms are numbered.
-// Scene (test_pair_contact_wrapped.h): a thin chain wrapped 10 times around a thick one, the
-// thick chain pulled through the helix, the thin chain held, friction on. With the thick chain numbered first, its front segment owns every contact with the helix (up
-// to 60, the default is 24 slots); numbered the other way, every thin node owns one or two.
-// The forces at the end depend on the friction history of every contact (the slips), so they are
-// compared: growing store against a store wide enough from the start, runs cut by a restart
-// across the growth, and the same scene with the atoms numbered three ways.
+// slots (maxcontacts), and the history does not make the result depend on the atom numbering.
+// Scenes (test_pair_contact_wrapped.h): a thin chain wrapped 10 times around a thick one, or thin
+// chains crossing a thick one (the comb); the thick chain pulled along its axis, the thin chains
+// held, friction on. With the thick chain numbered first, one of its nodes owns every contact of
+// its segment (up to 60 in the wrap, 35 in the comb; the default is 24 slots); numbered the other
+// way, every thin node owns one or two. Compared: the history in the store (every contact's key
+// and slip) and the forces of a growing store against a store wide enough from the start; the
+// history read back from restart files written before and after the growth (and in the format of
+// earlier versions); the comb numbered three ways (in the wrap the contact law itself depends on
+// which segment is A: doc/pair_ncf_contact.md).
 
 #include "ncf_lammps_test.h"
 #include "test_pair_contact_wrapped.h"
