@@ -10,8 +10,9 @@
    - the pair (A owned by i, B owned by j) is listed only where key(A) < key(B), key = (lower
      tag, higher tag), on the rank that owns A's owner node, whatever rank owns B;
    - forces on ghost nodes go back by LAMMPS's reverse communication (newton_pair on).
-   The friction history of the pair lives with A's owner node (a fix property/atom array), so it
-   migrates and restarts with it; the rank that computes the pair always owns it. Between two
+   The friction history of the pair lives with A's owner node (the per-atom store of fix
+   ncf/contact/history, as wide as the node with the most contacts needs), so it migrates and
+   restarts with it; the rank that computes the pair always owns it. Between two
    list builds the history of a pair is read and updated in its list entry; the per-atom store is
    loaded at the build and written when LAMMPS needs it (fix ncf/contact/history). Ghost rows of
    the store are communicated only in steps where a new contact takes over the slip of a pair
@@ -75,8 +76,9 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lmax_used = 0.0;
   reach_max = diam_max = 0.0;
   use_history = use_velocity = false;
-  idx_cnb = idx_hist = idx_fc = -1;
-  ncol = 1 + 6 * maxcontacts;
+  idx_cnb = idx_fc = -1;
+  fhist = nullptr;
+  comm_sized = 0;
   comm_mode = COMM_HIST;
   lists_valid = false;
   lists_ncalls = -1;
@@ -98,6 +100,49 @@ void PairNCFContact::create_history_fix()
 {
   if (!modify->get_fix_by_id(FixNCFContactHistory::ID))
     modify->add_fix(fmt::format("{} all ncf/contact/history", FixNCFContactHistory::ID));
+}
+
+// the history store at init (friction on): after read_restart the fix is created again in its
+// place (LAMMPS replaces a fix of the same ID and style where it stands), so that it takes its
+// width and rows from the file; it has at least maxcontacts slots, as many on every rank
+void PairNCFContact::attach_history_store()
+{
+  // (restart data not yet handed out exist only before the first run after read_restart; the
+  // fix created with the pair style in read_restart came before them)
+  const bool after_restart = modify->nfix_restart_peratom > 0;
+  if (after_restart && modify->get_fix_by_id(FixNCFContactHistory::ID))
+    modify->add_fix(fmt::format("{} all ncf/contact/history", FixNCFContactHistory::ID));
+  else
+    create_history_fix();
+  fhist = dynamic_cast<FixNCFContactHistory *>(modify->get_fix_by_id(FixNCFContactHistory::ID));
+  if (!fhist)
+    error->all(FLERR, "pair ncf/contact: fix {} is not of style ncf/contact/history",
+               FixNCFContactHistory::ID);
+  if (after_restart) import_old_history();
+  fhist->agree(maxcontacts);
+}
+
+// a restart file of a version that kept the history in a fix property/atom (ID OLD_HIST_ID, 1 +
+// 6 maxcontacts columns, maxcontacts of the file's pair style): that fix is created for a moment
+// to take its per-atom data (rows of zeros if the file has none), its rows copied into the empty
+// rows of the store, and deleted
+void PairNCFContact::import_old_history()
+{
+  if (modify->get_fix_by_id(OLD_HIST_ID)) return;
+  const int ncol = 1 + FixNCFContactHistory::SLOT * maxcontacts;
+  modify->add_fix(
+      fmt::format("{} all property/atom d2_ncf_chist {} ghost no writedata no", OLD_HIST_ID, ncol));
+  int flag, cols;
+  const int idx = atom->find_custom("ncf_chist", flag, cols);
+  if (idx >= 0 && flag == 1 && cols == ncol) {
+    double **old = atom->darray[idx];
+    for (int i = 0; i < atom->nlocal; i++) {
+      const int n = (int) old[i][0];
+      const bool empty = !fhist->rows() || fhist->rows()[i][0] == 0.0;
+      if (n > 0 && n <= maxcontacts && empty) fhist->set_row(i, old[i]);
+    }
+  }
+  modify->delete_fix(OLD_HIST_ID);
 }
 
 PairNCFContact::~PairNCFContact()
@@ -184,7 +229,6 @@ void PairNCFContact::settings(int narg, char **arg)
     }
     iarg += 2;
   }
-  ncol = 1 + 6 * maxcontacts;
   // the per-atom contact force exists from here on, so that a dump or variable defined before the
   // first run can name d_ncf_fcontact
   if (fatom_flag && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
@@ -286,19 +330,8 @@ void PairNCFContact::create_stores()
     error->all(FLERR, "pair ncf/contact: per-atom array d2_ncf_cnb of fix {} is malformed",
                TOPO_ID);
 
-  idx_hist = -1;
-  if (use_history) {
-    create_history_fix();
-    if (!modify->get_fix_by_id(HIST_ID))
-      modify->add_fix(
-          fmt::format("{} all property/atom d2_ncf_chist {} ghost no writedata no", HIST_ID, ncol));
-    idx_hist = atom->find_custom("ncf_chist", flag, cols);
-    if (idx_hist < 0 || flag != 1 || cols != ncol)
-      error->all(FLERR,
-                 "pair ncf/contact: friction history d2_ncf_chist of fix {} has {} columns, "
-                 "expected {} (maxcontacts {}): was maxcontacts changed? unfix {} to start anew",
-                 HIST_ID, cols, ncol, maxcontacts, HIST_ID);
-  }
+  fhist = nullptr;
+  if (use_history) attach_history_store();
   idx_fc = -1;
   if (fatom_flag) {
     if (!modify->get_fix_by_id(FORCE_ID))
@@ -516,11 +549,13 @@ void PairNCFContact::init_style()
     error->all(FLERR,
                "pair ncf/contact with friction (mu > 0) or damping requires ghost velocities: "
                "use comm_modify vel yes");
-  comm_forward = use_history ? ncol : 0;
   comm_reverse = fatom_flag ? 3 : 0;
 
   lists_valid = false;
   create_stores();
+  // (variable length: per node its number of contacts and 6 values per contact)
+  comm_forward = use_history ? fhist->row_width() : 0;
+  comm_sized = comm_forward;
   fill_topology();
   find_lmax();
   reach_max = 0.0;
@@ -648,7 +683,6 @@ void PairNCFContact::read_restart_settings(FILE *fp)
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
   MPI_Bcast(&core, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&endcap_frac, 1, MPI_DOUBLE, 0, world);
-  ncol = 1 + 6 * maxcontacts;
 }
 
 void PairNCFContact::write_restart(FILE *fp)

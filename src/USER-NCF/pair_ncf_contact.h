@@ -26,8 +26,9 @@ class PairNCFContact : public Pair {
  public:
   // IDs of the fix property/atom stores created by the style
   static constexpr const char *TOPO_ID = "NCF_CONTACT_TOPO";    // chain neighbours (ghost yes)
-  static constexpr const char *HIST_ID = "NCF_CONTACT_HIST";    // friction history (mu > 0)
   static constexpr const char *FORCE_ID = "NCF_CONTACT_F";      // per-atom |contact force|
+  // the fix property/atom that held the friction history in restart files of earlier versions
+  static constexpr const char *OLD_HIST_ID = "NCF_CONTACT_HIST";
 
   PairNCFContact(class LAMMPS *);
   ~PairNCFContact() override;
@@ -61,7 +62,7 @@ class PairNCFContact : public Pair {
   double core;           // stiffness factor of the core (NCF::ContactOptions::core)
   double endcap_frac;    // extension of segments at free chain ends, fraction of the diameter
   double lmax_user;      // longest segment given by the user (0 = from the data at init)
-  int maxcontacts;       // history slots per node
+  int maxcontacts;       // history slots per node at the start (the store grows beyond)
   int fatom_flag;        // store per-atom contact force magnitude
   int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
   double dt_critical;    // critical time step of the contacts (estimated at init)
@@ -78,8 +79,9 @@ class PairNCFContact : public Pair {
   double diam_max;      // largest diameter (of a type)
   bool use_history;     // any mu > 0: history stored and communicated
   bool use_velocity;    // friction or damping: ghost velocities needed
-  int idx_cnb, idx_hist, idx_fc;
-  int ncol;    // columns of the history array: 1 + 6 * maxcontacts
+  int idx_cnb, idx_fc;
+  class FixNCFContactHistory *fhist;    // the per-atom store of the friction history (mu > 0)
+  int comm_sized;    // the comm_forward that LAMMPS sized its buffers for (at init)
   enum { COMM_HIST, COMM_FORCE };
   int comm_mode;    // what forward/reverse communication carries: history rows, contact forces
 
@@ -190,6 +192,8 @@ class PairNCFContact : public Pair {
   void store_history(int);
   void create_stores();
   void create_history_fix();
+  void attach_history_store();
+  void import_old_history();
   void fill_topology();
   void find_lmax();
   void check_coincident(const std::vector<double> &xall);

@@ -8,6 +8,8 @@
 
 #include "pair_ncf_contact.h"
 
+#include "fix_ncf_contact_history.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
@@ -546,7 +548,14 @@ void PairNCFContact::compute(int eflag, int vflag)
       // the rows of the last step, sent to the ghosts
       store_history(hlast);
       comm_mode = COMM_HIST;
-      comm->forward_comm(this);
+      if (comm_forward > comm_sized) {
+        // the rows were widened in this run: LAMMPS's buffers were sized at init for the old
+        // width; forward_comm_array grows them (and sends the whole rows)
+        comm->forward_comm_array(comm_forward, fhist->rows());
+        comm_sized = comm_forward;
+      } else {
+        comm->forward_comm(this);
+      }
       for (const int e : deferred) pair_contact(e, false);
     }
   }

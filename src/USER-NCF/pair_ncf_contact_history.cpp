@@ -11,7 +11,9 @@
 #include "fix_ncf_contact_history.h"
 
 #include "atom.h"
+#include "comm.h"
 #include "error.h"
+#include "update.h"
 
 #include <cstring>
 #include <vector>
@@ -35,11 +37,11 @@ void PairNCFContact::other_partner(tagint node, tagint not_this, tagint &out) co
 // with index m (the owner node), nullptr if none
 const double *PairNCFContact::find_slip_row(int m, tagint ohi, tagint blo, tagint bhi) const
 {
-  const double *row = atom->darray[idx_hist][m];
+  const double *row = fhist->rows()[m];
   const int n = (int) row[0];
   // tags are stored exactly as doubles: compare them as such
   const double h = (double) ohi, l = (double) blo, b = (double) bhi;
-  for (int k = 0; k < n && k < maxcontacts; k++) {
+  for (int k = 0; k < n; k++) {
     const double *s = row + 1 + 6 * k;
     if (s[0] == h && s[1] == l && s[2] == b) return s + 3;
   }
@@ -107,17 +109,18 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
    friction history: between two list builds it lives with the pair list entries, in two
    buffers (pslip, phas): one holds the slips of the last step, read by this step (also by the
    take-overs of new contacts, so that every rank sees the same values whatever the order of its
-   list), the other receives the slips of this step. The per-atom store (NCF_CONTACT_HIST, rows of
-   the owner nodes) is what LAMMPS migrates, sorts and writes to restart files: it is read at
-   every build and written only when LAMMPS needs it (sync_history, from fix
+   list), the other receives the slips of this step. The per-atom store (fix ncf/contact/history,
+   rows of the owner nodes) is what LAMMPS migrates, sorts and writes to restart files: it is read
+   at every build and written only when LAMMPS needs it (sync_history, from fix
    ncf/contact/history before atoms migrate and at the end of a run; and for the take-overs that
-   need the rows of ghosts)
+   need the rows of ghosts). Its rows have as many slots as the node with the most contacts
+   needs: store_history widens it on all ranks together when a node has more contacts than slots
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::load_history()
 {
   const tagint *tag = atom->tag;
-  double **hist = atom->darray[idx_hist];
+  double **hist = fhist->rows();
   const size_t np = plist.size();
   hlast = 0;
   for (int b = 0; b < 2; b++) {
@@ -135,12 +138,12 @@ void PairNCFContact::load_history()
   rows_current = true;
 }
 
-// the per-atom rows of the owned nodes from history buffer b (hlast: the last step's)
+// the per-atom rows of the owned nodes from history buffer b (hlast: the last step's); collective
+// (the store is widened on all ranks when a node on one of them has more contacts than slots)
 void PairNCFContact::store_history(int b)
 {
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
-  double **hist = atom->darray[idx_hist];
   if (nlocal != lists_nlocal)
     error->one(FLERR,
                "pair ncf/contact: the atoms changed before their friction history was stored "
@@ -149,19 +152,32 @@ void PairNCFContact::store_history(int b)
                FixNCFContactHistory::ID);
   const unsigned char *has = phas[b].data();
   const double *slip = pslip[b].data();
+  // the most contacts of a node (the entries of a node are consecutive: build_lists)
+  int need = 0;
+  for (int i = 0; i < nlocal; i++) {
+    int n = 0;
+    for (int e = pfirst[i]; e < pfirst[i + 1]; e++) n += has[e];
+    need = n > need ? n : need;
+  }
+  const int had = fhist->slots();
+  // (in steps of 8 slots, so that a node gaining contacts one by one does not widen it each time)
+  fhist->agree(need > had ? (need + 7) / 8 * 8 : had);
+  if (fhist->slots() != had) {
+    comm_forward = fhist->row_width();
+    if (comm->me == 0)
+      utils::logmesg(lmp,
+                     "pair ncf/contact: friction history widened from {} to {} contacts per node "
+                     "at step {} (fix {})\n",
+                     had, fhist->slots(), update->ntimestep, FixNCFContactHistory::ID);
+  }
+  double **hist = fhist->rows();
   for (int i = 0; i < nlocal; i++) {
     double *row = hist[i];
     int n = 0;
-    // the entries of a node are consecutive (build_lists)
     for (int e = pfirst[i]; e < pfirst[i + 1]; e++) {
       if (!has[e]) continue;
-      if (n >= maxcontacts)
-        error->one(FLERR,
-                   "pair ncf/contact: node {} has more than {} contacts; raise pair_style keyword "
-                   "maxcontacts",
-                   tag[i], maxcontacts);
       const PairCand &pc = plist[e];
-      double *h = row + 1 + 6 * n;
+      double *h = row + 1 + FixNCFContactHistory::SLOT * n;
       // the slot: key of A's partner and of B, then the slip
       h[0] = (double) tag[real_of(pc.a1)];
       h[1] = (double) tag[real_of(pc.b0)];
@@ -186,7 +202,7 @@ int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_f
                                       int * /*pbc*/)
 {
   // variable length: per atom the number of contacts, then 6 values per contact
-  double **hist = atom->darray[idx_hist];
+  double **hist = fhist->rows();
   int m = 0;
   for (int k = 0; k < n; k++) {
     const double *row = hist[list[k]];
@@ -199,7 +215,7 @@ int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_f
 
 void PairNCFContact::unpack_forward_comm(int n, int first, double *buf)
 {
-  double **hist = atom->darray[idx_hist];
+  double **hist = fhist->rows();
   int m = 0;
   for (int k = first; k < first + n; k++) {
     const int len = 1 + 6 * (int) buf[m];

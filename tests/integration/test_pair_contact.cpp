@@ -9,6 +9,7 @@
 #include "test_pair_contact_scene.h"
 
 #include "atom.h"
+#include "fix.h"
 #include "fmt/format.h"
 #include "force.h"
 #include "lammps.h"
@@ -522,7 +523,7 @@ thermo 0
     l.cmd("compute pc all pair ncf/contact");
     if (drop_history) {    // negative control: the test must see a lost history
       l.cmd("run 0");
-      l.cmd("set group all d2_ncf_chist[1] 0");
+      l.cmd("unfix NCF_CONTACT_HISTORY");    // (the pair style creates it again, empty)
     }
     l.cmds(fixes);
     l.cmd("run 500");
@@ -625,8 +626,13 @@ TEST(PairContact, NoHistoryWithoutFriction)
     l.cmds(setup(write_data(dir + "/h.data", crossed(0.9 * DIAM), Box(), NODE_MASS), "f f f",
                  fmt::format("pair_coeff * * kn 1e8 mu {} diameter 69e-6", mu)));
     l.cmd("run 0");
-    const bool has = l.lmp->modify->get_fix_by_id("NCF_CONTACT_HIST") != nullptr;
-    EXPECT_EQ(has, mu > 0.0);
+    // the store of fix ncf/contact/history has slots (and memory) only with friction
+    auto *fix = l.lmp->modify->get_fix_by_id("NCF_CONTACT_HISTORY");
+    ASSERT_NE(fix, nullptr);
+    int dim = -1;
+    const int slots = *static_cast<int *>(fix->extract("slots", dim));
+    EXPECT_EQ(slots > 0, mu > 0.0);
+    EXPECT_EQ(fix->memory_usage() > 0.0, mu > 0.0);
     EXPECT_EQ(l.lmp->force->pair->comm_forward > 0, mu > 0.0);
   }
 }

@@ -42,10 +42,15 @@ inline Chain straight(std::array<double, 3> a, std::array<double, 3> b, int nseg
   return c;
 }
 
-// writes the chains; masses per type (lumped: rho_a * mesh); ntypes >= max type
+// writes the chains; masses per type (lumped: rho_a * mesh); ntypes >= max type. ids: the atom ID
+// of each node, in the order of the chains and their nodes (default 1, 2, ...: chain after chain)
 inline std::string write_data(const std::string &path, const std::vector<Chain> &chains,
-                              const Box &box, double node_mass, int ntypes = 1)
+                              const Box &box, double node_mass, int ntypes = 1,
+                              const std::vector<int> &ids = {})
 {
+  auto id_of = [&ids](int k) {
+    return ids.empty() ? k + 1 : ids[k];
+  };
   FILE *fp = fopen(path.c_str(), "w");
   int natoms = 0, nbonds = 0;
   for (const auto &c : chains) {
@@ -70,19 +75,62 @@ inline std::string write_data(const std::string &path, const std::vector<Chain> 
         img[d] = (int) std::floor((p[d] - box.lo[d]) / len);
         q[d] = p[d] - img[d] * len;
       }
-      fprintf(fp, "%d %d %d %.17g %.17g %.17g %d %d %d\n", ++id, (int) c + 1, chains[c].type, q[0],
-              q[1], q[2], img[0], img[1], img[2]);
+      fprintf(fp, "%d %d %d %.17g %.17g %.17g %d %d %d\n", id_of(id++), (int) c + 1, chains[c].type,
+              q[0], q[1], q[2], img[0], img[1], img[2]);
     }
   fprintf(fp, "\nBonds\n\n");
   id = 0;
   int b = 0;
   for (const auto &c : chains) {
     for (size_t k = 0; k + 1 < c.x.size(); k++)
-      fprintf(fp, "%d 1 %d %d\n", ++b, id + (int) k + 1, id + (int) k + 2);
+      fprintf(fp, "%d 1 %d %d\n", ++b, id_of(id + (int) k), id_of(id + (int) k + 1));
     id += (int) c.x.size();
   }
   fclose(fp);
   return path;
+}
+
+// a thin chain wrapped around a thick one (thick: type 2, first in the list): the thick chain
+// straight along x from x0 to x0 + 1.5 mm in 3 segments of 0.5 mm, the thin one (type 1) a helix
+// around the x axis from x 0.05 to 1.05 mm, pitch 0.1 mm, 12 segments per turn (120 in all),
+// of radius 0.9 times the contact distance of the two (thick diameter dthick, thin DIAM): every
+// thin segment beside a thick one touches it, up to 60 on one thick segment
+inline std::vector<Chain> wrapped(double x0, double dthick)
+{
+  Chain thick = straight({x0, 0.0, 0.0}, {x0 + 1.5e-3, 0.0, 0.0}, 3, 2);
+  Chain thin;
+  thin.type = 1;
+  const double r = 0.9 * 0.5 * (dthick + DIAM), pitch = 1e-4;
+  for (int k = 0; k <= 120; k++) {
+    const double a = 2.0 * M_PI * k / 12.0;
+    thin.x.push_back({0.05e-3 + pitch * k / 12.0, r * std::cos(a), r * std::sin(a)});
+  }
+  return {thick, thin};
+}
+
+// thin chains (type 1) crossing a thick one (type 2, first in the list) at right angles, every
+// contact inside a segment of both (so that the contact law is the same whichever segment is A):
+// the thick chain along x through x0 + (-2, -1.5, 1.5, 2) mm (a middle segment of 3 mm), 35 thin
+// chains at x = -1.2, -1.125, ... 1.35 mm, each 1.2 mm long in 3 segments, in turn above (along
+// y), beside (along z), below and on the other side of it, their axes 0.9 times the contact
+// distance of the two from its axis (thick diameter dthick, thin DIAM): the middle segment of the
+// thick chain touches the middle segments of all 35
+inline std::vector<Chain> comb(double x0, double dthick)
+{
+  std::vector<Chain> out;
+  Chain thick;
+  thick.type = 2;
+  for (double x : {-2e-3, -1.5e-3, 1.5e-3, 2e-3}) thick.x.push_back({x0 + x, 0.0, 0.0});
+  out.push_back(thick);
+  const double r = 0.9 * 0.5 * (dthick + DIAM), h = 0.6e-3;
+  for (int j = 0; j < 35; j++) {
+    const double x = -1.2e-3 + 0.075e-3 * j, side = (j % 4) < 2 ? r : -r;
+    if (j % 2 == 0)
+      out.push_back(straight({x, -h, side}, {x, h, side}, 3));
+    else
+      out.push_back(straight({x, side, -h}, {x, side, h}, 3));
+  }
+  return out;
 }
 
 // a random mat: nlayers layers of chains with random in-plane angles, periodic in x and y
