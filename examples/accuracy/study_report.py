@@ -6,8 +6,9 @@ Reads OUT/VARIANT-seedN/ (run.info: wall time and peak memory; the stage logs; n
 summary) and writes OUT/accuracy.csv (one line per run) and OUT/accuracy.md: per variant the
 metrics (mean ± SD over the seeds), the cost (nodes, steps, wall time, peak memory), and the error
 of each metric: |variant mean − reference mean| beside the seed scatter of the two (the
-root-sum-square of their SDs, so that an error below it is not resolved by the seeds), and a plot of
-the error against the wall time, OUT/accuracy.png.
+root-sum-square of their SDs, so that an error below it is not resolved by the seeds), the cost as
+node-steps (nodes × steps, which the load of the machine does not change) and wall time relative to
+the reference, and a plot of the error against the wall time, OUT/accuracy.png.
 """
 import argparse
 import csv
@@ -160,9 +161,9 @@ def main():
                      "brackets the seed scatter √(SD² + SD_ref²) (– with one seed); an error below "
                      "its scatter is not resolved:")
         lines.append("")
-        lines.append("| variant | wall time / reference's | " +
+        lines.append("| variant | node-steps / reference's | wall time / reference's | " +
                      " | ".join(f"{l} {u}".strip() for _, l, u in METRICS) + " |")
-        lines.append("|---|---|" + "---|" * len(METRICS))
+        lines.append("|---|---|---|" + "---|" * len(METRICS))
         for v in variants:
             cells = []
             for k, _, _ in METRICS:
@@ -172,7 +173,8 @@ def main():
                 scat = math.sqrt(s * s + sr * sr) if not (math.isnan(s) or math.isnan(sr)) \
                     else float("nan")
                 cells.append(fmt(err, 2) + ("" if math.isnan(scat) else f" ({fmt(scat, 2)})"))
-            lines.append(f"| {v} | {fmt(st[v]['wall'][0] / ref['wall'][0], 2)} | " +
+            work = st[v]["nodes"][0] * st[v]["steps"][0] / (ref["nodes"][0] * ref["steps"][0])
+            lines.append(f"| {v} | {fmt(work, 2)} | {fmt(st[v]['wall'][0] / ref['wall'][0], 2)} | " +
                          " | ".join(cells) + " |")
         plot(a.out, variants, st, ref, a.ref)
         lines.append("")
