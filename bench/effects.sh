@@ -23,23 +23,13 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
-man="$root/examples/manufacturing"
-source "${NCF_BUILD:-$root/build}/ncf-env.sh"
+source "$here/common.sh"
 steps=${1:-500}
 reps=${NCF_BENCH_REPS:-3}
 np=${NCF_BENCH_NP:-1}
 fab=${NCF_BENCH_FABRIC:-ncf45}
-work=$(mktemp -d /tmp/ncf-effects.XXXXXX)
-[ -n "${NCF_BENCH_KEEP:-}" ] && echo "logs in $work" || trap 'rm -rf "$work"' EXIT
-echo "load average before the runs: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores (timings are only comparable on an idle machine)"
-
-if [ -n "${NCF_BENCH_SCENE:-}" ]; then
-  scene=$(cd "$NCF_BENCH_SCENE" && pwd)
-else
-  scene=$work/scene
-  echo "stages 1-3 of $fab (untimed) ..."
-  NCF_STAGES=1-3 bash "$man/run.sh" "$scene" "$fab" > "$work/stages.out"
-fi
+bench_work effects
+bench_scene "$fab"
 prefix=$(basename "$(ls "$scene"/*.pierce.restart | head -1)" .pierce.restart)
 for f in "$scene/$prefix".*; do ln -sf "$f" "$work/"; done
 cd "$work"

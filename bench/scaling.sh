@@ -29,22 +29,13 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
-man="$root/examples/manufacturing"
-source "${NCF_BUILD:-$root/build}/ncf-env.sh"
+source "$here/common.sh"
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(1 2 3 4)
 nps=${NCF_BENCH_NP:-1 2}
 steps=${NCF_BENCH_STEPS:-200}
-work=$(mktemp -d /tmp/ncf-scaling.XXXXXX)
-[ -n "${NCF_BENCH_KEEP:-}" ] && echo "outputs in $work" || trap 'rm -rf "$work"' EXIT
-echo "load average before the runs: $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores (timings are only comparable on an idle machine)"
-if [ -n "${NCF_BENCH_SCENE:-}" ]; then
-  scene=$(cd "$NCF_BENCH_SCENE" && pwd)
-else
-  scene=$work/scene
-  echo "stages 1-3 of ncf45 (untimed) ..."
-  NCF_STAGES=1-3 bash "$man/run.sh" "$scene" ncf45 > "$work/stages.out"
-fi
+bench_work scaling
+bench_scene ncf45
 prefix=ncf45
 for f in "$scene/$prefix".*; do ln -sf "$f" "$work/"; done
 cd "$work"
