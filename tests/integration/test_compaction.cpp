@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 #include <fstream>
 #include <sstream>
 
@@ -54,6 +55,18 @@ template <class F> int read_dump(const std::string &path, long natoms, F f)
   return snapshots;
 }
 
+// stage 1 (examples/manufacturing/in.compact) on DIR/mini.*, run from DIR as run.sh runs it, with
+// index variables given first as on the command line ("NAME VALUE")
+void compact(Lammps &l, const std::string &dir, const std::vector<std::string> &vars)
+{
+  std::filesystem::current_path(dir);
+  l.cmd("variable prefix index mini");
+  for (const auto &v : vars) l.cmd("variable " + v.substr(0, v.find(' ')) + " index " +
+                                   v.substr(v.find(' ') + 1));
+  l.cmd("variable here index " + source_path("examples/manufacturing"));
+  l.cmd("include " + source_path("examples/manufacturing/in.compact"));
+}
+
 }    // namespace
 
 TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
@@ -65,13 +78,8 @@ TEST(Compaction, Sigma3MatReachesTLWithoutPassThrough)
 
   // the stage script reads PREFIX.* and writes OUT/PREFIX.*, as run.sh calls it from the output
   // folder
-  std::filesystem::current_path(dir);
   Lammps l;
-  l.cmd("variable prefix index mini");
-  l.cmd("variable dumpevery index 50");
-  l.cmd("variable hold index 1000");
-  l.cmd("variable here index " + source_path("examples/manufacturing"));
-  l.cmd("include " + source_path("examples/manufacturing/in.compact"));
+  compact(l, dir, {"dumpevery 50", "hold 1000"});
 
   const double d = l.value("v_ncf_d_fibre"), tl = l.value("v_ncf_thickness");
   const double lx = l.value("lx"), ly = l.value("ly");
@@ -132,13 +140,8 @@ TEST(Compaction, QualityPresetGivesTheRunParametersAndTheCommandLineWins)
   }
   generate(dir + "/draft.card", dir + "/mini");
 
-  std::filesystem::current_path(dir);
   Lammps l;
-  l.cmd("variable prefix index mini");
-  l.cmd("variable hold index 0");
-  l.cmd("variable dtfrac index 0.3");
-  l.cmd("variable here index " + source_path("examples/manufacturing"));
-  l.cmd("include " + source_path("examples/manufacturing/in.compact"));
+  compact(l, dir, {"hold 0", "dtfrac 0.3"});
 
   EXPECT_EQ(l.value("v_ncf_dtfrac"), 0.7);    // the draft preset in the settings
   EXPECT_EQ(l.value("v_dtfrac"), 0.3);        // the command line's

@@ -63,6 +63,22 @@ void box_h(Lammps &l, double *h)
   for (int k = 0; k < 6; k++) h[k] = l.lmp->domain->h[k];
 }
 
+// after read_restart of the mat: what a restart file does not keep, defined again as when it was
+// written (the fix ncf/pbc restores its state from the file), then n steps
+void resume(Lammps &r, int n)
+{
+  r.cmds(R"(
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
+fix MASS all property/atom rmass
+neighbor 1e-4 bin
+comm_modify cutoff 6e-4
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+)");
+  r.cmd("run " + std::to_string(n));
+}
+
 }    // namespace
 
 TEST(FixPBC, AveragedConstraintHoldsOver10kSteps)
@@ -213,16 +229,7 @@ run 500
   }
   Lammps r;
   r.cmd("read_restart " + dir + "/half.restart");
-  r.cmds(R"(
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
-fix MASS all property/atom rmass
-neighbor 1e-4 bin
-comm_modify cutoff 6e-4
-fix nve all nve
-fix pbc ends ncf/pbc faces x
-timestep 5e-9
-run 500
-)");
+  resume(r, 500);
   EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
 }
 
@@ -306,16 +313,7 @@ unfix deform
   EXPECT_GT(std::fabs(h[5]), 1e-6);
   Lammps r;
   r.cmd("read_restart " + dir + "/deformed.restart");
-  r.cmds(R"(
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end
-fix MASS all property/atom rmass
-neighbor 1e-4 bin
-comm_modify cutoff 6e-4
-fix nve all nve
-fix pbc ends ncf/pbc faces x
-timestep 5e-9
-run 300
-)");
+  resume(r, 300);
   // (to round-off: LAMMPS wraps the atoms of a tilted box through its lamda coordinates at the
   // setup of the resumed run, which changes the last bits of their positions)
   const auto x = r.positions();
