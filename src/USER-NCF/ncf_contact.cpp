@@ -374,6 +374,54 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
   return out;
 }
 
+SegmentContact combine_both_ways(const SegmentContact &ab, const SegmentContact &ba)
+{
+  SegmentContact out;
+  out.active = ab.active || ba.active;
+  if (!out.active) return out;
+  // (an inactive way counts as zero, whatever its fields hold)
+  const double ea = ab.active ? ab.energy : 0.0, eb = ba.active ? ba.energy : 0.0;
+  const double fa = ab.active ? ab.fn : 0.0, fb = ba.active ? ba.fn : 0.0;
+  const double la = ab.active ? ab.length : 0.0, lb = ba.active ? ba.length : 0.0;
+  out.energy = 0.5 * (ea + eb);
+  // B against A has B's nodes first: its forces on B0, B1 are f[0], f[1]
+  for (int m = 0; m < 4; m++) {
+    const Vec3 pa = ab.active ? ab.f[m] : Vec3();
+    const Vec3 pb = ba.active ? ba.f[(m + 2) % 4] : Vec3();
+    out.f[m] = 0.5 * (pa + pb);
+  }
+  out.fn = 0.5 * (fa + fb);
+  out.length = 0.5 * (la + lb);
+  // the normal (from B to A) and the contact points weighted by the normal force of each way, so
+  // that they move continuously when one way comes into contact or leaves it
+  const Vec3 m = fa * ab.normal - fb * ba.normal;
+  const double m2 = norm2(m);
+  if (m2 > 0.0)
+    out.normal = (1.0 / std::sqrt(m2)) * m;
+  else
+    out.normal = ab.active ? ab.normal : -ba.normal;
+  const double w = fa + fb;
+  if (w > 0.0) {
+    out.xi = (fa * ab.xi + fb * ba.t) / w;
+    out.t = (fa * ab.t + fb * ba.xi) / w;
+  } else {
+    out.xi = ab.active ? ab.xi : ba.t;
+    out.t = ab.active ? ab.t : ba.xi;
+  }
+  out.penetration = std::max(ab.penetration, ba.penetration);
+  return out;
+}
+
+SegmentContact chain_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                             double dc, double kn, double ramp, bool with_penetration,
+                             const ContactOptions &opt)
+{
+  ContactOptions swapped = opt;
+  for (int k = 0; k < 4; k++) swapped.ext[k] = opt.ext[(k + 2) % 4];
+  return combine_both_ways(segment_contact(a0, a1, b0, b1, dc, kn, ramp, with_penetration, opt),
+                           segment_contact(b0, b1, a0, a1, dc, kn, ramp, with_penetration, swapped));
+}
+
 namespace {
   constexpr double DEFICIT_TOL = NODE_DEFICIT_TOL;
 }    // namespace

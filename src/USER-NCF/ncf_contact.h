@@ -92,6 +92,31 @@ SegmentContact segment_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, c
                                double dc, double kn, double ramp, bool with_penetration = true,
                                const ContactOptions &opt = ContactOptions());
 
+// The contact law of pair_style ncf/contact, the same whichever segment is A. segment_contact
+// integrates along A, cut off at A's nodes, against the ramps at B's nodes; where a chain is kinked
+// at a node in contact, or a contact straddles a node, A against B differs from B against A, and a
+// pair style that takes the lower-numbered segment as A would make results depend on the atom
+// numbering. The pair energy is therefore the mean of both ways,
+//
+//   E = (E_AB + E_BA) / 2,
+//
+// and the node forces are the means of theirs (so still exactly -dE/dx, balanced in force and
+// moment). Each way leaves its own gaps at kinks of the other chain (the ramps at its nodes), so
+// the node caps (node_contact), which fill them, enter with CAP_WEIGHT = 1/2. On straight chains
+// both ways give the same energy, so nothing changes there. For the dashpot and friction the
+// contact is described by combine_both_ways: normal force and contact length the means, normal
+// direction and contact points the means weighted by each way's normal force (continuous when one
+// way comes into contact before the other), penetration the larger. ext as for segment_contact.
+// Twice the cost of segment_contact.
+SegmentContact chain_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, const Vec3 &b1,
+                             double dc, double kn, double ramp, bool with_penetration = true,
+                             const ContactOptions &opt = ContactOptions());
+// the combination of ab (A against B) and ba (B against A, computed with B's nodes first) that
+// chain_contact returns; an inactive way counts as zero
+SegmentContact combine_both_ways(const SegmentContact &ab, const SegmentContact &ba);
+// the weight of the node caps in the symmetric law (chain_contact)
+constexpr double CAP_WEIGHT = 0.5;
+
 // A contact computed for the segments extended by ext[0..3] (extend_segment) mapped back to the
 // real segments a0-a1, b0-b1: the node forces by the chain rule, the contact point parameters
 // xi and t (what segment_contact does with ContactOptions::ext; penetration untouched)
@@ -170,6 +195,10 @@ struct ContactBatch {
 };
 // core: ContactOptions::core, the same for all lanes
 void segment_contact_batch(ContactBatch &b, double core);
+// chain_contact for the lanes of b: segment_contact_batch both ways, combined as
+// combine_both_ways. A lane that either way leaves to the scalar law gets status -1 (evaluate it
+// with chain_contact). Results equal chain_contact's to round-off (tested), penetration 0.
+void chain_contact_batch(ContactBatch &b, double core);
 
 // Exact and cheap prefilter of segment_contact: false when A stays at least dc away from B
 // extended by the ramp half-width at both ends (closest points of the two segments); the contact

@@ -255,6 +255,68 @@ void segment_contact_batch(ContactBatch &b, double core)
 }
 
 namespace {
+  // the lanes of b (A against B) combined with those of s (B against A, B's nodes first) as
+  // combine_both_ways does, with selects instead of branches
+  inline __attribute__((always_inline)) void combine_lanes(ContactBatch &b, const ContactBatch &s)
+  {
+    for (int l = 0; l < b.n; l++) {
+      const double sa = b.status[l], sb = s.status[l];
+      const bool pa = sa > 0.0, pb = sb > 0.0;
+      const double ea = pa ? b.energy[l] : 0.0, eb = pb ? s.energy[l] : 0.0;
+      const double fa = pa ? b.fn[l] : 0.0, fb = pb ? s.fn[l] : 0.0;
+      const double la = pa ? b.length[l] : 0.0, lb = pb ? s.length[l] : 0.0;
+      b.energy[l] = 0.5 * (ea + eb);
+      for (int k = 0; k < 12; k++) {
+        const double ga = pa ? b.f[k][l] : 0.0, gb = pb ? s.f[(k + 6) % 12][l] : 0.0;
+        b.f[k][l] = 0.5 * (ga + gb);
+      }
+      b.fn[l] = 0.5 * (fa + fb);
+      b.length[l] = 0.5 * (la + lb);
+      const double mx = fa * b.normal[0][l] - fb * s.normal[0][l];
+      const double my = fa * b.normal[1][l] - fb * s.normal[1][l];
+      const double mz = fa * b.normal[2][l] - fb * s.normal[2][l];
+      const double m2 = mx * mx + my * my + mz * mz;
+      const bool weighted = m2 > 0.0;
+      const double im = 1.0 / std::sqrt(weighted ? m2 : 1.0);
+      const double nx = pa ? b.normal[0][l] : -s.normal[0][l];
+      const double ny = pa ? b.normal[1][l] : -s.normal[1][l];
+      const double nz = pa ? b.normal[2][l] : -s.normal[2][l];
+      b.normal[0][l] = weighted ? im * mx : nx;
+      b.normal[1][l] = weighted ? im * my : ny;
+      b.normal[2][l] = weighted ? im * mz : nz;
+      const double w = fa + fb;
+      const bool wpos = w > 0.0;
+      const double ws = wpos ? w : 1.0;
+      const double xa = b.xi[l], ta = b.t[l], xb = s.xi[l], tb = s.t[l];
+      b.xi[l] = wpos ? (fa * xa + fb * tb) / ws : (pa ? xa : tb);
+      b.t[l] = wpos ? (fa * ta + fb * xb) / ws : (pa ? ta : xb);
+      const double st = (pa | pb) ? 1.0 : 0.0;
+      b.status[l] = (sa < 0.0) | (sb < 0.0) ? -1.0 : st;
+    }
+  }
+}    // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#endif
+void chain_contact_batch(ContactBatch &b, double core)
+{
+  // B against A: the same lanes with B's nodes first
+  ContactBatch s;
+  s.n = b.n;
+  for (int k = 0; k < 12; k++)
+    for (int l = 0; l < b.n; l++) s.x[k][l] = b.x[(k + 6) % 12][l];
+  for (int l = 0; l < b.n; l++) {
+    s.dc[l] = b.dc[l];
+    s.kn[l] = b.kn[l];
+    s.ramp[l] = b.ramp[l];
+  }
+  segment_contact_batch(b, core);
+  segment_contact_batch(s, core);
+  combine_lanes(b, s);
+}
+
+namespace {
   // friction_step (ncf_contact.cpp) for one lane; the branches of the scalar code become selects
   // whose unused side is computed but never used (a division by a zero t2 or fm2 goes to a dummy)
   struct FrictionLane {

@@ -360,18 +360,24 @@ void PairNCFContact::build_lists()
     }
     const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
     if (share_node(A, B)) return;
-    // the law is zero while A, extended at free chain ends, stays D away from B, extended there
-    // and by the ramp half-width e beyond both nodes (NCF::segment_contact_possible): the entry
-    // keeps that gap at the build, and a bound of how fast it can close (growth)
+    // the law (both ways, NCF::chain_contact) is zero while A, extended at free chain ends,
+    // stays D away from B, extended there and by the ramp half-width e beyond both nodes, and B
+    // likewise from A extended by e (NCF::segment_contact_possible both ways): the entry keeps
+    // the gap of the way that can close first, as gap / growth (a bound of how fast it closes)
     const TypePair &tp = tpar[type_pair(type[ao], type[bo])];
-    Vec3 pa0(x[ao]), pa1(x[ia]), pb0(x[bo]), pb1(x[jb]);
-    const double la = NCF::norm(pa1 - pa0), lb = NCF::norm(pb1 - pb0);
-    NCF::extend_segment(pa0, pa1, endext[ao], endext[ia]);
-    NCF::extend_segment(pb0, pb1, endext[bo] + tp.ramp, endext[jb] + tp.ramp);
-    const double gap =
-        std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
-    const double grow =
-        gap_growth(la, MAX(endext[ao], endext[ia]), lb, MAX(endext[bo], endext[jb]) + tp.ramp);
+    const Vec3 ra0(x[ao]), ra1(x[ia]), rb0(x[bo]), rb1(x[jb]);
+    const double la = NCF::norm(ra1 - ra0), lb = NCF::norm(rb1 - rb0);
+    const double ema = MAX(endext[ao], endext[ia]), emb = MAX(endext[bo], endext[jb]);
+    auto gap_of = [&](double ra, double rb) {
+      Vec3 pa0 = ra0, pa1 = ra1, pb0 = rb0, pb1 = rb1;
+      NCF::extend_segment(pa0, pa1, endext[ao] + ra, endext[ia] + ra);
+      NCF::extend_segment(pb0, pb1, endext[bo] + rb, endext[jb] + rb);
+      return std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
+    };
+    const double gap_ab = gap_of(0.0, tp.ramp), grow_ab = gap_growth(la, ema, lb, emb + tp.ramp);
+    const double gap_ba = gap_of(tp.ramp, 0.0), grow_ba = gap_growth(la, ema + tp.ramp, lb, emb);
+    const bool ab_first = gap_ab / grow_ab <= gap_ba / grow_ba;
+    const double gap = ab_first ? gap_ab : gap_ba, grow = ab_first ? grow_ab : grow_ba;
     // no node moves more than skin / 2 before the next build (checked in compute)
     if (gap >= grow * skin) return;
     const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 ||

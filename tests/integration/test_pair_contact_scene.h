@@ -243,7 +243,7 @@ inline Brute brute_force(const std::vector<Chain> &chains, const std::vector<dou
       opt.core = CORE;
       const int nodes[4] = {A.a0, A.a1, B.a0, B.a1};
       for (int k = 0; k < 4; k++) opt.ext[k] = free_end[nodes[k]] ? ENDCAP_FRAC * dc : 0.0;
-      const auto c = NCF::segment_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
+      const auto c = NCF::chain_contact(a0, a1, P(B.a0) + sh, P(B.a1) + sh, dc, kn, e, true, opt);
       if (!c.active) continue;
       out.contacts++;
       out.energy += c.energy;
@@ -256,7 +256,7 @@ inline Brute brute_force(const std::vector<Chain> &chains, const std::vector<dou
       if (excluded) continue;
       const NCF::Vec3 sh = image(a0, P(pnq[1]));
       const auto c = NCF::node_contact(a0, a1, P(pnq[0]) + sh, P(pnq[1]) + sh, P(pnq[2]) + sh, dc,
-                                       kn, e, CORE);
+                                       NCF::CAP_WEIGHT * kn, e, CORE);
       if (!c.active) continue;
       out.caps++;
       out.energy += c.energy;
