@@ -266,8 +266,14 @@ namespace {
       const double fa = pa ? b.fn[l] : 0.0, fb = pb ? s.fn[l] : 0.0;
       const double la = pa ? b.length[l] : 0.0, lb = pb ? s.length[l] : 0.0;
       b.energy[l] = 0.5 * (ea + eb);
-      for (int k = 0; k < 12; k++) {
-        const double ga = pa ? b.f[k][l] : 0.0, gb = pb ? s.f[(k + 6) % 12][l] : 0.0;
+      // (the force on A0 of B against A is its f[2], i.e. rows 6-8; written out, so that the
+      // loop over the lanes vectorises)
+      for (int k = 0; k < 6; k++) {
+        const double ga = pa ? b.f[k][l] : 0.0, gb = pb ? s.f[k + 6][l] : 0.0;
+        b.f[k][l] = 0.5 * (ga + gb);
+      }
+      for (int k = 6; k < 12; k++) {
+        const double ga = pa ? b.f[k][l] : 0.0, gb = pb ? s.f[k - 6][l] : 0.0;
         b.f[k][l] = 0.5 * (ga + gb);
       }
       b.fn[l] = 0.5 * (fa + fb);
@@ -304,8 +310,11 @@ void chain_contact_batch(ContactBatch &b, double core)
   // B against A: the same lanes with B's nodes first
   ContactBatch s;
   s.n = b.n;
-  for (int k = 0; k < 12; k++)
-    for (int l = 0; l < b.n; l++) s.x[k][l] = b.x[(k + 6) % 12][l];
+  for (int k = 0; k < 6; k++)
+    for (int l = 0; l < b.n; l++) {
+      s.x[k][l] = b.x[k + 6][l];
+      s.x[k + 6][l] = b.x[k][l];
+    }
   for (int l = 0; l < b.n; l++) {
     s.dc[l] = b.dc[l];
     s.kn[l] = b.kn[l];

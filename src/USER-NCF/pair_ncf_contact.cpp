@@ -69,6 +69,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   maxcontacts = 24;
   fatom_flag = 0;
   dtcheck = 2;
+  oneway = 0;
   dt_critical = 0.0;
   kn = ktr = mu = damp = cut = reachf = nullptr;
   tstride = 0;
@@ -185,7 +186,7 @@ void PairNCFContact::allocate()
 
 /* ----------------------------------------------------------------------
    pair_style ncf/contact [ramp f] [core kappa] [endcap f] [lmax L] [maxcontacts N] [fatom yes|no]
-                          [dtcheck error|warn|no]
+                          [dtcheck error|warn|no] [law symmetric|oneway]
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::settings(int narg, char **arg)
@@ -224,6 +225,13 @@ void PairNCFContact::settings(int narg, char **arg)
         dtcheck = 0;
       else
         error->all(FLERR, "pair_style ncf/contact: dtcheck {} is not one of error, warn, no", val);
+    } else if (key == "law") {
+      if (strcmp(val, "symmetric") == 0)
+        oneway = 0;
+      else if (strcmp(val, "oneway") == 0)
+        oneway = 1;
+      else
+        error->all(FLERR, "pair_style ncf/contact: law {} is not one of symmetric, oneway", val);
     } else {
       error->all(FLERR, "pair_style ncf/contact: unknown keyword {}", key);
     }
@@ -660,7 +668,10 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&lmax_user, sizeof(double), 1, fp);
   fwrite(&maxcontacts, sizeof(int), 1, fp);
   fwrite(&fatom_flag, sizeof(int), 1, fp);
-  fwrite(&dtcheck, sizeof(int), 1, fp);
+  // (the law packed into the dtcheck word, so that restart files keep the layout of earlier
+  // versions; theirs read back with the default, symmetric law)
+  const int dtlaw = dtcheck + 8 * oneway;
+  fwrite(&dtlaw, sizeof(int), 1, fp);
   fwrite(&core, sizeof(double), 1, fp);
   fwrite(&endcap_frac, sizeof(double), 1, fp);
 }
@@ -681,6 +692,8 @@ void PairNCFContact::read_restart_settings(FILE *fp)
   MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
   MPI_Bcast(&fatom_flag, 1, MPI_INT, 0, world);
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
+  oneway = dtcheck / 8;
+  dtcheck %= 8;
   MPI_Bcast(&core, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&endcap_frac, 1, MPI_DOUBLE, 0, world);
 }

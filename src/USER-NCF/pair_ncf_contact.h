@@ -65,6 +65,8 @@ class PairNCFContact : public Pair {
   int maxcontacts;       // history slots per node at the start (the store grows beyond)
   int fatom_flag;        // store per-atom contact force magnitude
   int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
+  int oneway;            // 1: the one-way law (segment A = lower key against B; caps at full
+                         // weight), 0: the symmetric law (NCF::chain_contact; default)
   double dt_critical;    // critical time step of the contacts (estimated at init)
 
   // per type pair (index 0 unused); diameter per type

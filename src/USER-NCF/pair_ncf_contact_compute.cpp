@@ -243,10 +243,11 @@ void PairNCFContact::compute(int eflag, int vflag)
     const TypePair &tp = tpar[pc.tp];
     const EntryNodes en = nodes_of(pc);
     const double no_ext[4] = {0.0, 0.0, 0.0, 0.0};
-    // (both ways: the law is the mean of A against B and B against A)
+    // (both ways for the symmetric law, the mean of A against B and B against A)
     return NCF::segment_contact_possible(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.ramp,
                                          no_ext) ||
-        NCF::segment_contact_possible(en.x[2], en.x[3], en.x[0], en.x[1], tp.dc, tp.ramp, no_ext);
+        (!oneway &&
+         NCF::segment_contact_possible(en.x[2], en.x[3], en.x[0], en.x[1], tp.dc, tp.ramp, no_ext));
   };
   // the law of entry e by the scalar kernel (any case)
   auto law = [&](int e) {
@@ -255,8 +256,10 @@ void PairNCFContact::compute(int eflag, int vflag)
     const EntryNodes en = nodes_of(pc);
     NCF::ContactOptions opt;
     opt.core = core;
-    return NCF::chain_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
-                              eflag_global != 0, opt);
+    return oneway ? NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn,
+                                         tp.ramp, eflag_global != 0, opt)
+                  : NCF::chain_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
+                                       eflag_global != 0, opt);
   };
   // After the law: the slip a contact with friction starts from, in this step's buffer: the
   // pair's own of the previous step or, for a new contact, that of a neighbouring pair (or
@@ -385,7 +388,10 @@ void PairNCFContact::compute(int eflag, int vflag)
   batch.n = 0;
   auto flush = [&]() {
     NCF::fill_lanes_from_rows(batch, tbatch, X, lane_node, use_velocity);
-    NCF::chain_contact_batch(batch, core);
+    if (oneway)
+      NCF::segment_contact_batch(batch, core);
+    else
+      NCF::chain_contact_batch(batch, core);
     // The lanes in contact (status 1) go on, those with friction with their slip; the others are
     // no contact (0) or left to the scalar law (-1). Flags first, without branches; then the few
     // lanes that need more: the scalar law, the penetration output, the slip a new contact with
@@ -563,6 +569,8 @@ void PairNCFContact::compute(int eflag, int vflag)
   }
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
+  // (at half weight in the symmetric law: each cap fills the gap of one of its two ways)
+  const double cap_weight = oneway ? 1.0 : NCF::CAP_WEIGHT;
   // (the caps within the largest diameter after the displacement bound of all nodes gathered
   // first, without branches)
   int nnear = 0;
@@ -591,7 +599,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       const CapCand &cc = clist[work[w0 + l]];
       const TypePair &tp = tpar[cc.tp];
       cbatch.set(l, xof(cc.a0), xof(cc.a1), xof(cc.p), xof(cc.n), xof(cc.q), tp.dc,
-                 NCF::CAP_WEIGHT * tp.kn, tp.ramp);
+                 cap_weight * tp.kn, tp.ramp);
     }
     NCF::node_contact_batch(cbatch, core);
     // (the caps in contact or left to node_contact listed first, without branches)
@@ -609,7 +617,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (st < 0.0) {
         const TypePair &tp = tpar[cc.tp];
         c = NCF::node_contact(Vec3(xof(cc.a0)), Vec3(xof(cc.a1)), Vec3(xof(cc.p)), Vec3(xof(cc.n)),
-                              Vec3(xof(cc.q)), tp.dc, NCF::CAP_WEIGHT * tp.kn, tp.ramp, core);
+                              Vec3(xof(cc.q)), tp.dc, cap_weight * tp.kn, tp.ramp, core);
         if (!c.active) continue;
       } else {
         c = cbatch.result(l);

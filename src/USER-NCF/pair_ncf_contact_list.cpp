@@ -375,8 +375,10 @@ void PairNCFContact::build_lists()
       return std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
     };
     const double gap_ab = gap_of(0.0, tp.ramp), grow_ab = gap_growth(la, ema, lb, emb + tp.ramp);
-    const double gap_ba = gap_of(tp.ramp, 0.0), grow_ba = gap_growth(la, ema + tp.ramp, lb, emb);
-    const bool ab_first = gap_ab / grow_ab <= gap_ba / grow_ba;
+    // (the one-way law, pair_style law oneway, only A against B)
+    const double gap_ba = oneway ? 0.0 : gap_of(tp.ramp, 0.0);
+    const double grow_ba = gap_growth(la, ema + tp.ramp, lb, emb);
+    const bool ab_first = oneway || gap_ab / grow_ab <= gap_ba / grow_ba;
     const double gap = ab_first ? gap_ab : gap_ba, grow = ab_first ? grow_ab : grow_ba;
     // no node moves more than skin / 2 before the next build (checked in compute)
     if (gap >= grow * skin) return;

@@ -183,6 +183,37 @@ TEST(PairContactGrowth, SameResultWhateverTheNumbering)
   }
 }
 
+// `law oneway` (the one-way law of earlier versions, cheaper) is an option: on the wrap it depends
+// on the numbering (so the symmetric default above is what makes the results independent of it),
+// and a restart file keeps the law (pe after read_restart and run 0 that of the run that wrote it)
+TEST(PairContactGrowth, OneWayLawIsAnOptionAndRestarts)
+{
+  auto dir = scratch_dir("contact_growth_oneway");
+  const std::vector<int> thin = thin_first_ids(NATOMS);
+  std::vector<int> plain(NATOMS);
+  std::iota(plain.begin(), plain.end(), 1);
+  const std::string style = std::string(STYLE) + " law oneway";
+  auto run = [&](const std::string &name, const std::vector<int> &ids, const std::string &st,
+                 bool restart) {
+    Lammps l;
+    define(l, scene(dir + "/" + name + ".data", ids), st, 0.5);
+    l.cmd("run 200");
+    const double pe = l.value("pe");
+    if (restart) l.cmd("write_restart " + dir + "/" + name + ".restart");
+    return pe;
+  };
+  const double a = run("plain", plain, style, true), b = run("thin", thin, style, false);
+  EXPECT_GT(std::fabs(a - b), 0.01 * std::fabs(a)) << "the one-way law depends on the numbering";
+  const double s = run("sym", plain, STYLE, false);
+  EXPECT_GT(std::fabs(a - s), 0.01 * std::fabs(a)) << "the two laws differ on the wrap";
+  Lammps l;
+  l.cmd("read_restart " + dir + "/plain.restart");
+  // (pair_style and its settings from the file: only what read_restart does not restore)
+  l.cmds("bond_style ncf/chain dtcheck no\n" + settings("", 0.5));
+  l.cmd("run 0");
+  EXPECT_NEAR(l.value("pe"), a, 1e-12 * std::fabs(a)) << "the law read back from the restart file";
+}
+
 // a restart file in the format of earlier versions (the history in a fix property/atom
 // NCF_CONTACT_HIST of 1 + 6 maxcontacts columns): made here by copying a run's history into such a
 // fix and emptying the store (unfix: write_restart creates it again, empty); read back, the
