@@ -39,7 +39,7 @@ reps=${NCF_BENCH_REPS:-5}
 # the spheres are ~6 times cheaper per step: 5 times the steps, so that both are timed over about
 # the same wall time
 gsteps=$((5 * steps))
-ncf() { lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu "$1" -var steps "$steps" -var frozen "${3:-0}" -log "$2" -screen none; }
+ncf() { lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu "$1" -var steps "$steps" -var frozen "${3:-0}" -var law "${4:-symmetric}" -log "$2" -screen none; }
 for r in $(seq "$reps"); do
   ncf 0.3 ncf1.$r.log
   lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$gsteps" -log gran1.$r.log -screen none
@@ -48,28 +48,30 @@ for r in $(seq "$reps"); do
   # the same configuration every step, with and without friction (the saving of mu = 0 alone)
   ncf 0.3 frozen.$r.log 1
   ncf 0.0 frozenmu0.$r.log 1
+  # the one-way contact law (pair_style ncf/contact law oneway)
+  ncf 0.3 oneway.$r.log 0 oneway
   r1=$(loop ncf1.$r.log) r2=$(loop ncf2.$r.log) rg=$(loop gran1.$r.log) gn=$(grains_of gran1.$r.log)
   python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2:.2f}')"
 done
 # the fastest repetition of each kind
 fastest() { for f in "$@"; do echo "$(loop "$f") $f"; done | sort -g | head -1 | cut -d' ' -f2; }
 f1=$(fastest ncf1.*.log); f2=$(fastest ncf2.*.log); f0=$(fastest ncf1mu0.*.log); fg=$(fastest gran1.*.log)
-fz=$(fastest frozen.*.log); fz0=$(fastest frozenmu0.*.log)
+fz=$(fastest frozen.*.log); fz0=$(fastest frozenmu0.*.log); fo=$(fastest oneway.*.log)
 grains=$(grains_of "$fg")
 
 t1=$(loop "$f1"); t2=$(loop "$f2"); t0=$(loop "$f0"); tg=$(loop "$fg")
 p1=$(pairt "$f1"); p0=$(pairt "$f0"); pg=$(pairt "$fg")
-tz=$(loop "$fz"); tz0=$(loop "$fz0"); pz=$(pairt "$fz"); pz0=$(pairt "$fz0")
+tz=$(loop "$fz"); tz0=$(loop "$fz0"); pz=$(pairt "$fz"); pz0=$(pairt "$fz0"); to=$(loop "$fo")
 c_ncf=$(contacts "$f1" 4); c_gran=$(contacts "$fg" 3)
 builds() { awk '/^Neighbor list builds/{n=$NF} END{print n}' "$1"; }
 # (without friction the mat relaxed with friction slides a little: a few builds in the mu = 0 run)
 echo "list builds in the timed steps: ncf/contact $(builds "$f1") (2 ranks $(builds "$f2"), mu = 0 $(builds "$f0")), gran/hooke/history $(builds "$fg")"
-python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" <<'PY'
+python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" <<'PY'
 import sys
 nodes, grains, steps, gsteps = map(int, sys.argv[1:5])
 t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[5:12])
 c_ncf, c_gran = float(sys.argv[12]), float(sys.argv[13]) / 2.0   # contact/atom counts each contact twice
-tz, tz0, pz, pz0 = map(float, sys.argv[14:18])
+tz, tz0, pz, pz0, to = map(float, sys.argv[14:19])
 per = lambda t, n, k=steps: t / (n * k) * 1e6
 print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
 print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
@@ -80,4 +82,6 @@ print(f"mu = 0 (no history stored or communicated), same configuration every ste
       f"whole step {100 * (1 - t0 / t1):.1f} % cheaper")
 ratio = per(t1, nodes) / per(tg, grains, gsteps)
 print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2:.2f}")
+print(f"one-way contact law (law oneway): cost ratio {per(to, nodes) / per(tg, grains, gsteps):.2f}, "
+      f"{100 * (1 - to / t1):.1f} % cheaper than the symmetric law")
 PY
