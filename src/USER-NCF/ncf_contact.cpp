@@ -418,8 +418,9 @@ SegmentContact chain_contact(const Vec3 &a0, const Vec3 &a1, const Vec3 &b0, con
 {
   ContactOptions swapped = opt;
   for (int k = 0; k < 4; k++) swapped.ext[k] = opt.ext[(k + 2) % 4];
-  return combine_both_ways(segment_contact(a0, a1, b0, b1, dc, kn, ramp, with_penetration, opt),
-                           segment_contact(b0, b1, a0, a1, dc, kn, ramp, with_penetration, swapped));
+  return combine_both_ways(
+      segment_contact(a0, a1, b0, b1, dc, kn, ramp, with_penetration, opt),
+      segment_contact(b0, b1, a0, a1, dc, kn, ramp, with_penetration, swapped));
 }
 
 namespace {

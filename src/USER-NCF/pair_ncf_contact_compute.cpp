@@ -256,8 +256,8 @@ void PairNCFContact::compute(int eflag, int vflag)
     const EntryNodes en = nodes_of(pc);
     NCF::ContactOptions opt;
     opt.core = core;
-    return oneway ? NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn,
-                                         tp.ramp, eflag_global != 0, opt)
+    return oneway ? NCF::segment_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
+                                         eflag_global != 0, opt)
                   : NCF::chain_contact(en.x[0], en.x[1], en.x[2], en.x[3], tp.dc, tp.kn, tp.ramp,
                                        eflag_global != 0, opt);
   };

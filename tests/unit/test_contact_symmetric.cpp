@@ -257,7 +257,8 @@ TEST(SymmetricContact, KinkedChainsTheSameWhicheverChainIsA)
   std::vector<Vec3> z1, z2;
   for (int k = 0; k < 9; k++) {
     z1.push_back(Vec3((k - 4) * 1.3 * D, (k % 2) * 0.6 * D, 0.1 * D * (k % 3)));
-    z2.push_back(Vec3((k % 2) * 0.7 * D - 0.2 * D, (k - 4) * 1.1 * D, 0.8 * D + 0.05 * D * (k % 3)));
+    z2.push_back(
+        Vec3((k % 2) * 0.7 * D - 0.2 * D, (k - 4) * 1.1 * D, 0.8 * D + 0.05 * D * (k % 3)));
   }
   scenes.push_back({z1, z2});
   for (size_t s = 0; s < scenes.size(); s++) {
