@@ -67,7 +67,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   endcap_frac = NCF::DEFAULT_ENDCAP;
   lmax_user = 0.0;
   maxcontacts = 24;
-  fatom_flag = 0;
+  fatom_every = 0;
   dtcheck = 2;
   oneway = 0;
   dt_critical = 0.0;
@@ -185,7 +185,7 @@ void PairNCFContact::allocate()
 }
 
 /* ----------------------------------------------------------------------
-   pair_style ncf/contact [ramp f] [core kappa] [endcap f] [lmax L] [maxcontacts N] [fatom yes|no]
+   pair_style ncf/contact [ramp f] [core kappa] [endcap f] [lmax L] [maxcontacts N] [fatom yes|no|N]
                           [dtcheck error|warn|no] [law symmetric|oneway]
 ------------------------------------------------------------------------- */
 
@@ -215,7 +215,17 @@ void PairNCFContact::settings(int narg, char **arg)
     } else if (key == "maxcontacts") {
       maxcontacts = (int) NCF_LMP::integer(lmp, W, key, val, 1, 1000);
     } else if (key == "fatom") {
-      fatom_flag = NCF_LMP::logical(lmp, W, key, val) ? 1 : 0;
+      // yes (every step), no, or N: every N steps (and the last step of every run)
+      if (utils::is_integer(val))
+        fatom_every = (int) NCF_LMP::integer(lmp, W, key, val, 0, MAXSMALLINT);
+      else if (!strcmp(val, "yes") || !strcmp(val, "on") || !strcmp(val, "true"))
+        fatom_every = 1;
+      else if (!strcmp(val, "no") || !strcmp(val, "off") || !strcmp(val, "false"))
+        fatom_every = 0;
+      else
+        error->all(FLERR,
+                   "pair_style ncf/contact: fatom {} is not one of yes, no or a number of steps N",
+                   val);
     } else if (key == "dtcheck") {
       if (strcmp(val, "error") == 0)
         dtcheck = 2;
@@ -239,7 +249,7 @@ void PairNCFContact::settings(int narg, char **arg)
   }
   // the per-atom contact force exists from here on, so that a dump or variable defined before the
   // first run can name d_ncf_fcontact
-  if (fatom_flag && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
+  if (fatom_every && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
     modify->add_fix(
         fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
 }
@@ -341,7 +351,7 @@ void PairNCFContact::create_stores()
   fhist = nullptr;
   if (use_history) attach_history_store();
   idx_fc = -1;
-  if (fatom_flag) {
+  if (fatom_every) {
     if (!modify->get_fix_by_id(FORCE_ID))
       modify->add_fix(
           fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
@@ -557,7 +567,7 @@ void PairNCFContact::init_style()
     error->all(FLERR,
                "pair ncf/contact with friction (mu > 0) or damping requires ghost velocities: "
                "use comm_modify vel yes");
-  comm_reverse = fatom_flag ? 3 : 0;
+  comm_reverse = fatom_every ? 3 : 0;
 
   lists_valid = false;
   create_stores();
@@ -667,7 +677,7 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&ramp_frac, sizeof(double), 1, fp);
   fwrite(&lmax_user, sizeof(double), 1, fp);
   fwrite(&maxcontacts, sizeof(int), 1, fp);
-  fwrite(&fatom_flag, sizeof(int), 1, fp);
+  fwrite(&fatom_every, sizeof(int), 1, fp);
   // (the law packed into the dtcheck word, so that restart files keep the layout of earlier
   // versions; theirs read back with the default, symmetric law)
   const int dtlaw = dtcheck + 8 * oneway;
@@ -682,7 +692,7 @@ void PairNCFContact::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &ramp_frac, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &lmax_user, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &maxcontacts, sizeof(int), 1, fp, nullptr, error);
-    utils::sfread(FLERR, &fatom_flag, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &fatom_every, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &dtcheck, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &core, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &endcap_frac, sizeof(double), 1, fp, nullptr, error);
@@ -690,7 +700,7 @@ void PairNCFContact::read_restart_settings(FILE *fp)
   MPI_Bcast(&ramp_frac, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&lmax_user, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
-  MPI_Bcast(&fatom_flag, 1, MPI_INT, 0, world);
+  MPI_Bcast(&fatom_every, 1, MPI_INT, 0, world);
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
   oneway = dtcheck / 8;
   dtcheck %= 8;

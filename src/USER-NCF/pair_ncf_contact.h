@@ -63,7 +63,7 @@ class PairNCFContact : public Pair {
   double endcap_frac;    // extension of segments at free chain ends, fraction of the diameter
   double lmax_user;      // longest segment given by the user (0 = from the data at init)
   int maxcontacts;       // history slots per node at the start (the store grows beyond)
-  int fatom_flag;        // store per-atom contact force magnitude
+  int fatom_every;       // per-node contact force magnitude every N steps (0: none)
   int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
   int oneway;            // 1: the one-way law (segment A = lower key against B; caps at full
                          // weight), 0: the symmetric law (NCF::chain_contact; default)

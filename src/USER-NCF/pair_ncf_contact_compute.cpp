@@ -64,7 +64,13 @@ void PairNCFContact::compute(int eflag, int vflag)
   // (virtual nodes at free chain ends: build_lists)
   const int nvirt = (int) vreal.size();
   fvirt.assign(3 * (size_t) nvirt, 0.0);
-  if (fatom_flag) fcon.assign(3 * (size_t) (nall + nvirt), 0.0);
+  // the per-node contact force (fatom) on the steps it is asked for: every fatom_every steps, the
+  // last step of a run and its setup, every step of a minimisation; the other steps leave it
+  // (and its reverse communication) out
+  const bool fatom_now = fatom_every > 0 &&
+      (update->setupflag || update->whichflag != 1 || update->ntimestep % fatom_every == 0 ||
+       update->ntimestep == update->laststep);
+  if (fatom_now) fcon.assign(3 * (size_t) (nall + nvirt), 0.0);
 
   double ncontact = 0.0, pensum = 0.0, penmax = 0.0, ncap = 0.0;
 
@@ -289,7 +295,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       fk[0] += fs(k, 0);
       fk[1] += fs(k, 1);
       fk[2] += fs(k, 2);
-      if (fatom_flag) {
+      if (fatom_now) {
         fcon[3 * nodes[k] + 0] += fs(k, 0);
         fcon[3 * nodes[k] + 1] += fs(k, 1);
         fcon[3 * nodes[k] + 2] += fs(k, 2);
@@ -428,7 +434,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     if (use_velocity) NCF::tangential_batch(batch, tbatch, dt, advance);
     // the contacts' slips kept and forces added (as apply does, with the counters in locals, so
     // that they stay in registers; the same operations in the same order)
-    double *const fc = fatom_flag ? fcon.data() : nullptr;
+    double *const fc = fatom_now ? fcon.data() : nullptr;
     double nc = ncontact, ps = pensum, pm = penmax, ev = eng_vdwl;
     // (the lanes in contact listed first, without branches: which are is unpredictable)
     int go_lane[NCF::CONTACT_BATCH], ngo = 0;
@@ -626,7 +632,7 @@ void PairNCFContact::compute(int eflag, int vflag)
         f[ids[m]][0] += c.f[m].x;
         f[ids[m]][1] += c.f[m].y;
         f[ids[m]][2] += c.f[m].z;
-        if (fatom_flag) {
+        if (fatom_now) {
           fcon[3 * ids[m] + 0] += c.f[m].x;
           fcon[3 * ids[m] + 1] += c.f[m].y;
           fcon[3 * ids[m] + 2] += c.f[m].z;
@@ -676,7 +682,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     for (int vn = 0; vn < nvirt; vn++)
       tally_virtual_end(vreal[vn], vnbr[vn], EX[vreal[vn]], &vgeom[4 * (size_t) vn],
                         FV + 3 * (size_t) vn);
-  if (fatom_flag)
+  if (fatom_now)
     map_virtual(fcon.data() + 3 * (size_t) nall, [this](int k) {
       return fcon.data() + 3 * (size_t) k;
     });
@@ -688,7 +694,7 @@ void PairNCFContact::compute(int eflag, int vflag)
     rows_current = false;
   }
 
-  if (fatom_flag) {
+  if (fatom_now) {
     comm_mode = COMM_FORCE;
     comm->reverse_comm(this);
     double *fc = atom->dvector[idx_fc];

@@ -674,6 +674,45 @@ TEST(PairContact, PerAtomContactForceForDumps)
   }
 }
 
+// fatom N: the per-node contact force is computed on every N-th step, at the setup and on the last
+// step of a run, and kept as it was on the steps between (which skip its accumulation and reverse
+// communication); the values it has are those of fatom yes on the same step. A crossing pressed
+// together so that the force changes every step; the largest node force recorded each step.
+TEST(PairContact, PerAtomContactForceEveryNSteps)
+{
+  auto dir = scratch_dir("contact_fatom_every");
+  const std::string data = write_data(dir + "/e.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  auto record = [&](const std::string &every) {
+    Lammps l;
+    l.cmds(setup(data, "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
+                 "pair_style ncf/contact fatom " + every));
+    l.cmds(R"(
+group c2 molecule 2
+velocity c2 set 0.0 0.0 -2.0
+fix nve all nve
+variable fc atom d_ncf_fcontact
+compute fmax all reduce max v_fc
+fix rec all vector 1 c_fmax
+thermo 0
+run 9
+)");
+    std::vector<double> v;
+    for (int k = 1; k <= 10; k++) v.push_back(l.value(fmt::format("f_rec[{}]", k)));
+    return v;
+  };
+  const auto all = record("yes"), every4 = record("4");
+  // (the test can fail: the force grows every step)
+  for (int k = 1; k < 10; k++) ASSERT_GT(all[k], all[k - 1]) << "step " << k;
+  const std::vector<int> from = {0, 0, 0, 0, 4, 4, 4, 4, 8, 9};    // the step each value is of
+  for (int k = 0; k < 10; k++) EXPECT_EQ(every4[k], all[from[k]]) << "step " << k;
+  // fatom 0 is fatom no: no per-node force, no reverse communication
+  Lammps l;
+  l.cmds(setup(data, "f f f", "pair_coeff * * kn 1e8 diameter 69e-6",
+               "pair_style ncf/contact fatom 0"));
+  l.cmd("run 0");
+  EXPECT_EQ(l.lmp->force->pair->comm_reverse, 0) << "fatom 0 is fatom no";
+}
+
 // fix ncf/contact/history (created by the pair style) writes the friction history into the
 // per-atom store before atoms migrate; a fix that migrates atoms in its own pre_exchange must come
 // after it. pair_style given after the box: created then, before fix balance, fine. pair_style
