@@ -286,17 +286,19 @@ void FixNCFPlate::apply()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double radius = 0.5 * diameter[type[i]];
-    const double l = tributary_length(i);
     for (int k = 0; k < 2; k++) {
       const Plate &p = plate[k];
       if (p.motion.kind == NCF::Motion::NONE) continue;
       const int side = k == 0 ? 1 : -1;
-      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
       double *s = use_history ? &slip[i][3 * k] : nullptr;
-      if (!c.contact) {
+      // most nodes are far from both plates: their gap first (the test plane_contact makes), the
+      // rest of the contact only for those that touch
+      if (!(radius - side * (x[i][2] - p.z) > 0.0)) {
         if (s) s[0] = s[1] = s[2] = 0.0;
         continue;
       }
+      const double l = tributary_length(i);
+      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
       f[i][2] += side * c.force;
       local[k][0] += side * c.force;
       local[k][3] += 1.0;
@@ -325,10 +327,11 @@ void FixNCFPlate::apply()
   for (int k = 0; k < 2; k++)
     for (int q = 0; q < NTOT; q++) mine[NTOT * k + q] = local[k][q];
   mine[2 * NTOT] = elocal;
-  MPI_Allreduce(mine, all, 2 * NTOT, MPI_DOUBLE, MPI_SUM, world);
+  // (the sums and the energy in one reduction, the largest penetrations in another)
+  MPI_Allreduce(mine, all, 2 * NTOT + 1, MPI_DOUBLE, MPI_SUM, world);
+  energy = all[2 * NTOT];
   double pen[2] = {local[0][4], local[1][4]}, penall[2];
   MPI_Allreduce(pen, penall, 2, MPI_DOUBLE, MPI_MAX, world);
-  MPI_Allreduce(&mine[2 * NTOT], &energy, 1, MPI_DOUBLE, MPI_SUM, world);
   for (int k = 0; k < 2; k++) {
     for (int q = 0; q < NTOT; q++) totals[k][q] = all[NTOT * k + q];
     totals[k][4] = penall[k];
