@@ -4,6 +4,7 @@
 # with one effect switched at a time (bench/in.effects), against the same state with the stage's
 # own effects, in one run:
 #   friction      mu 0.3 (contacts and plates) -> mu 0
+#   fatom         the per-node contact force every 250 steps (the stages') -> every step
 #   averaged PBC  fix ncf/pbc on the chain ends -> plain periodic box
 #   needles       none -> through the mat / parked just above it (both stage 2)
 #   plates        touching (stage 1-4) -> lifted out of reach / none (after the release)
@@ -41,6 +42,7 @@ lmprun() { if [ "$np" -gt 1 ]; then mpirun -np "$np" --oversubscribe lmp "$@"; e
 variants=(
   "stage 2 state: plates, averaged PBC, mu 0.3|pierce|"
   "friction off (mu 0)|pierce|-var mu 0"
+  "per-node contact force every step (fatom 1)|pierce|-var every 1"
   "plain periodic (no fix ncf/pbc)|pierce|-var pbc 0"
   "needles through the mat|pierce|-var needles in"
   "needles parked above the mat|pierce|-var needles out"
