@@ -71,6 +71,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   dtcheck = 2;
   oneway = 0;
   dt_critical = 0.0;
+  ghost_user = ghost_set = -1.0;
   kn = ktr = mu = damp = cut = reachf = nullptr;
   tstride = 0;
   given = nullptr;
@@ -567,6 +568,11 @@ void PairNCFContact::init_style()
     error->all(FLERR,
                "pair ncf/contact with friction (mu > 0) or damping requires ghost velocities: "
                "use comm_modify vel yes");
+  if (!use_velocity && comm->ghost_velocity && comm->me == 0)
+    utils::logmesg(lmp,
+                   "pair ncf/contact: no contact uses velocities (mu = 0 and damp = 0): unless "
+                   "another style needs them, 'comm_modify vel no' saves communicating those of "
+                   "the ghost nodes\n");
   comm_reverse = fatom_every ? 3 : 0;
 
   lists_valid = false;
@@ -609,12 +615,19 @@ void PairNCFContact::init_style()
   for (int i = 1; i <= atom->ntypes; i++) diam_max = MAX(diam_max, diameter[i]);
   const double need = diam_max * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
       (use_history ? 3.0 : 2.0) * lmax_used;
-  if (comm->cutghostuser < need) {
-    if (comm->me == 0)
-      utils::logmesg(lmp, "pair ncf/contact: communication cutoff raised to {:.6g} (lmax {:.6g})\n",
-                     need, lmax_used);
-    comm->cutghostuser = need;
-  }
+  // The cutoff is the user's raised to this need, set anew at every init: it shrinks again when
+  // the need does (friction switched off, shorter segments), also after a restart (the user's
+  // value is in the style's restart data: LAMMPS's own holds the raised one). A value different
+  // from the one set last is the user's (comm_modify cutoff since).
+  if (ghost_user < 0.0 || comm->cutghostuser != ghost_set) ghost_user = comm->cutghostuser;
+  const double cut_comm = MAX(ghost_user, need);
+  if (cut_comm != comm->cutghostuser && comm->me == 0)
+    utils::logmesg(lmp,
+                   "pair ncf/contact: communication cutoff {} {:.6g} (lmax {:.6g}{}; given "
+                   "{:.6g})\n",
+                   cut_comm > comm->cutghostuser ? "raised to" : "lowered to", cut_comm, lmax_used,
+                   use_history ? ", friction history" : "", ghost_user);
+  comm->cutghostuser = ghost_set = cut_comm;
 }
 
 double PairNCFContact::init_one(int i, int j)
@@ -679,11 +692,13 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&maxcontacts, sizeof(int), 1, fp);
   fwrite(&fatom_every, sizeof(int), 1, fp);
   // (the law packed into the dtcheck word, so that restart files keep the layout of earlier
-  // versions; theirs read back with the default, symmetric law)
-  const int dtlaw = dtcheck + 8 * oneway;
+  // versions; theirs read back with the default, symmetric law; bit 16: the communication cutoff
+  // the user gave follows the other settings)
+  const int dtlaw = dtcheck + 8 * oneway + 16;
   fwrite(&dtlaw, sizeof(int), 1, fp);
   fwrite(&core, sizeof(double), 1, fp);
   fwrite(&endcap_frac, sizeof(double), 1, fp);
+  fwrite(&ghost_user, sizeof(double), 1, fp);
 }
 
 void PairNCFContact::read_restart_settings(FILE *fp)
@@ -702,10 +717,18 @@ void PairNCFContact::read_restart_settings(FILE *fp)
   MPI_Bcast(&maxcontacts, 1, MPI_INT, 0, world);
   MPI_Bcast(&fatom_every, 1, MPI_INT, 0, world);
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
-  oneway = dtcheck / 8;
+  const bool has_ghost = dtcheck & 16;
+  oneway = (dtcheck / 8) & 1;
   dtcheck %= 8;
   MPI_Bcast(&core, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&endcap_frac, 1, MPI_DOUBLE, 0, world);
+  // the communication cutoff the user gave; LAMMPS has read the one this style set from the
+  // restart file's header (files of earlier versions: unknown, the cutoff stays as read)
+  if (has_ghost) {
+    if (comm->me == 0) utils::sfread(FLERR, &ghost_user, sizeof(double), 1, fp, nullptr, error);
+    MPI_Bcast(&ghost_user, 1, MPI_DOUBLE, 0, world);
+    ghost_set = ghost_user >= 0.0 ? comm->cutghostuser : -1.0;
+  }
 }
 
 void PairNCFContact::write_restart(FILE *fp)

@@ -68,6 +68,9 @@ class PairNCFContact : public Pair {
   int oneway;            // 1: the one-way law (segment A = lower key against B; caps at full
                          // weight), 0: the symmetric law (NCF::chain_contact; default)
   double dt_critical;    // critical time step of the contacts (estimated at init)
+  // the communication cutoff as the user gave it (comm_modify cutoff; -1: not known yet) and as
+  // this style last set it (the user's raised to what the style needs)
+  double ghost_user, ghost_set;
 
   // per type pair (index 0 unused); diameter per type
   double **kn, **ktr, **mu, **damp, **cut, **reachf;

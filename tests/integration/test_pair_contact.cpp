@@ -9,6 +9,7 @@
 #include "test_pair_contact_scene.h"
 
 #include "atom.h"
+#include "comm.h"
 #include "fix.h"
 #include "fmt/format.h"
 #include "force.h"
@@ -17,6 +18,7 @@
 #include "pair.h"
 
 #include "ncf_contact.h"
+#include "pair_ncf_contact.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -711,6 +713,49 @@ run 9
                "pair_style ncf/contact fatom 0"));
   l.cmd("run 0");
   EXPECT_EQ(l.lmp->force->pair->comm_reverse, 0) << "fatom 0 is fatom no";
+}
+
+// The communication cutoff is the user's (comm_modify cutoff) raised to what the style needs: one
+// segment length more with friction (the history of the neighbouring segments), so it shrinks
+// again when friction is switched off, in the same process and after a restart from a run with
+// friction (LAMMPS's restart header holds the raised value); a larger cutoff the user gives stays.
+TEST(PairContact, GhostCutoffShrinksWhenFrictionIsSwitchedOff)
+{
+  auto dir = scratch_dir("contact_ghost_cutoff");
+  const std::string data = write_data(dir + "/g.data", crossed(0.9 * DIAM), Box(), NODE_MASS);
+  const std::string with = "pair_coeff * * kn 1e8 mu 0.3 diameter 69e-6";
+  const std::string without = "pair_coeff * * kn 1e8 mu 0 diameter 69e-6";
+  double cut_mu, cut_nomu, lmax;
+  {
+    Lammps l;
+    l.cmds(setup(data, "f f f", with));
+    l.cmd("run 0");
+    cut_mu = l.lmp->comm->cutghostuser;
+    lmax = static_cast<LAMMPS_NS::PairNCFContact *>(l.lmp->force->pair)->max_segment_length();
+    l.cmd("write_restart " + dir + "/mu.restart");
+    l.cmd(without);
+    l.cmd("run 0");
+    cut_nomu = l.lmp->comm->cutghostuser;
+    EXPECT_NEAR(cut_mu - cut_nomu, lmax, 1e-12 * cut_mu) << "in the same process";
+    l.cmd("comm_modify cutoff 5e-3");
+    l.cmd("run 0");
+    EXPECT_EQ(l.lmp->comm->cutghostuser, 5e-3) << "the user's larger cutoff stays";
+    l.cmd("comm_modify cutoff 0");
+    l.cmd(with);
+    l.cmd("run 0");
+    EXPECT_EQ(l.lmp->comm->cutghostuser, cut_mu);
+  }
+  auto after_restart = [&](const std::string &coeff, const std::string &extra) {
+    Lammps l;
+    l.cmd("read_restart " + dir + "/mu.restart");
+    l.cmds("bond_coeff 1 modulus 120e9 diameter 69e-6\npair_style ncf/contact\n" + coeff +
+           "\ncomm_modify vel yes\nneighbor 2e-5 bin\n" + extra);
+    l.cmd("run 0");
+    return l.lmp->comm->cutghostuser;
+  };
+  EXPECT_EQ(after_restart(without, ""), cut_nomu) << "after a restart from a run with friction";
+  EXPECT_EQ(after_restart(with, ""), cut_mu);
+  EXPECT_EQ(after_restart(without, "comm_modify cutoff 4e-3"), 4e-3);
 }
 
 // fix ncf/contact/history (created by the pair style) writes the friction history into the
