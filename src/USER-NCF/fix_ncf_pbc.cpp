@@ -25,6 +25,7 @@
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include "ncf_args_lammps.h"
@@ -118,6 +119,7 @@ void FixNCFPBC::take_state_of(const std::string &other_id)
                "the end nodes of its group",
                other_id, group->names[other->igroup], group->names[igroup]);
   nodes = other->nodes;
+  mine_ncalls = -1;
   ngroups = other->ngroups;
   group_pair = other->group_pair;
   std::copy(other->href, other->href + 6, href);
@@ -378,6 +380,7 @@ void FixNCFPBC::capture_reference()
 
 void FixNCFPBC::finish_groups()
 {
+  mine_ncalls = -1;
   sum_w2.assign(ngroups, 0.0);
   dref.assign(3 * ngroups, 0.0);
   for (auto &e : nodes) {
@@ -441,6 +444,22 @@ void FixNCFPBC::min_setup(int vflag)
   min_post_force(vflag);
 }
 
+/* ---------------------------------------------------------------------- */
+
+void FixNCFPBC::find_mine()
+{
+  const int nlocal = atom->nlocal;
+  // (LAMMPS resets ncalls at the setup of every run, after the build there: ago is 0 then)
+  if (neighbor->ago != 0 && mine_ncalls == neighbor->ncalls && mine_nlocal == nlocal) return;
+  mine.clear();
+  for (int k = 0; k < (int) nodes.size(); k++) {
+    const int i = atom->map(nodes[k].tag);
+    if (i >= 0 && i < nlocal) mine.emplace_back(k, i);
+  }
+  mine_ncalls = neighbor->ncalls;
+  mine_nlocal = nlocal;
+}
+
 /* ----------------------------------------------------------------------
    dynamics: constraint forces that make every C_g vanish at the next step
 ------------------------------------------------------------------------- */
@@ -448,7 +467,6 @@ void FixNCFPBC::min_setup(int vflag)
 void FixNCFPBC::post_force(int vflag)
 {
   v_init(vflag);
-  const int nlocal = atom->nlocal;
   double **x = atom->x, **v = atom->v, **f = atom->f;
   imageint *image = atom->image;
   double *rmass = atom->rmass, *mass = atom->mass;
@@ -456,10 +474,10 @@ void FixNCFPBC::post_force(int vflag)
   const double dt = update->dt;
   const double dt2 = dt * dt * force->ftm2v;
 
+  find_mine();
   work.assign((std::size_t) NVAL * ngroups, 0.0);
-  for (auto &e : nodes) {
-    const int i = atom->map(e.tag);
-    if (i < 0 || i >= nlocal) continue;
+  for (const auto &[k, i] : mine) {
+    const EndNode &e = nodes[k];
     const double m = rmass ? rmass[i] : mass[type[i]];
     double xu[3];
     domain->unmap(x[i], image[i], xu);
@@ -495,9 +513,8 @@ void FixNCFPBC::post_force(int vflag)
     lambda = lambda_last;
   }
 
-  for (auto &e : nodes) {
-    const int i = atom->map(e.tag);
-    if (i < 0 || i >= nlocal) continue;
+  for (const auto &[k, i] : mine) {
+    const EndNode &e = nodes[k];
     double fc[3];
     for (int d = 0; d < 3; d++) {
       fc[d] = e.weight * lambda[3 * e.group + d];
@@ -524,19 +541,17 @@ void FixNCFPBC::post_force(int vflag)
 
 void FixNCFPBC::min_post_force(int /*vflag*/)
 {
-  const int nlocal = atom->nlocal;
   double **f = atom->f;
+  find_mine();
   work.assign((std::size_t) 3 * ngroups, 0.0);
-  for (auto &e : nodes) {
-    const int i = atom->map(e.tag);
-    if (i < 0 || i >= nlocal) continue;
+  for (const auto &[k, i] : mine) {
+    const EndNode &e = nodes[k];
     for (int d = 0; d < 3; d++) work[3 * e.group + d] += e.weight * f[i][d];
   }
   sums.resize(work.size());
   MPI_Allreduce(work.data(), sums.data(), (int) work.size(), MPI_DOUBLE, MPI_SUM, world);
-  for (auto &e : nodes) {
-    const int i = atom->map(e.tag);
-    if (i < 0 || i >= nlocal) continue;
+  for (const auto &[k, i] : mine) {
+    const EndNode &e = nodes[k];
     for (int d = 0; d < 3; d++) f[i][d] -= e.weight * sums[3 * e.group + d] / sum_w2[e.group];
   }
 }

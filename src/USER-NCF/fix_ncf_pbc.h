@@ -60,6 +60,13 @@ class FixNCFPBC : public Fix {
   double residual_max;            // largest |constraint| before the last correction (length)
 
   std::vector<double> work, sums, lambda;    // per-step buffers
+  // the end nodes this rank owns: (index into nodes, local atom index), in the order of nodes;
+  // found again at every neighbour list build (atoms change ranks and places only then) and
+  // whenever the node list changes (mine_ncalls -1), so that a step costs O(own end nodes)
+  std::vector<std::pair<int, int>> mine;
+  bigint mine_ncalls = -1;
+  int mine_nlocal = -1;
+  void find_mine();
   // the multipliers of the last step of a run and its number: the setup of the next run at that
   // step applies them again, rather than ones predicted from the full-step velocities that
   // LAMMPS has then (the steps have the half-step ones), so that a run cut into pieces (or

@@ -4,10 +4,12 @@
 #include "ncf_pbc.h"
 #include "ncf_scenes.h"
 
+#include "atom.h"
 #include "domain.h"
 #include "fix.h"
 #include "lammps.h"
 #include "modify.h"
+#include "neighbor.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -108,6 +110,46 @@ thermo_style custom step pe ke f_pbc
   EXPECT_LT(l.value("f_pbc"), 1e-10 * LX);
   // and the chains did move (the constraint is not trivially satisfied)
   EXPECT_GT(max_abs_diff(x, xref), 1e-7);
+}
+
+// The fix finds its own end nodes again whenever LAMMPS may have moved atoms in memory: also at
+// the setup of a run after one without any list build (LAMMPS counts the builds from zero in
+// every run, and sorts the atoms at every setup). A rigid shift between the runs (which the
+// constraint does not see) puts the atoms into other sort bins.
+TEST(FixPBC, OwnEndNodesFoundAgainWhenAtomsAreReordered)
+{
+  auto dir = scratch_dir("pbc_reorder");
+  auto mat = write_mat(dir, 3.0, 11);
+  Lammps l;
+  load_mat(l, mat);
+  auto xref = l.positions();
+  double href[6], h[6];
+  box_h(l, href);
+  l.cmds(R"(
+atom_modify sort 1000 5e-5
+velocity all create 5e12 5 loop geom
+fix nve all nve
+fix pbc ends ncf/pbc faces x
+timestep 5e-9
+thermo_style custom step pe ke f_pbc
+run 50
+)");
+  ASSERT_EQ(l.lmp->neighbor->ncalls, 0) << "the case: a run without list builds";
+  const auto before = l.positions();
+  std::vector<int> order(l.lmp->atom->tag, l.lmp->atom->tag + l.lmp->atom->nlocal);
+  l.cmd("displace_atoms all move 3.1e-4 1.7e-4 0.0");
+  l.cmd("run 50");
+  ASSERT_NE(order, std::vector<int>(l.lmp->atom->tag, l.lmp->atom->tag + l.lmp->atom->nlocal))
+      << "the case: the atoms sorted anew at the setup of the second run";
+  // (the positions unwrapped, the shift taken off again)
+  auto x = l.positions();
+  for (std::size_t i = 0; i < x.size(); i += 3) x[i] -= 3.1e-4, x[i + 1] -= 1.7e-4;
+  box_h(l, h);
+  const double err = constraint_error(xref, x, face_codes(mat), href, h);
+  EXPECT_LT(err, 1e-10 * LX);
+  // and the constraint forces went to the end nodes: nothing jumped (thermal motion over 50 steps
+  // is a few um; forces on the wrong nodes move them by up to the box)
+  EXPECT_LT(max_abs_diff(x, before), 1e-5);
 }
 
 TEST(FixPBC, ConstraintFollowsABoxDeformation)
@@ -322,7 +364,9 @@ unfix deform
   // a new fix in the tilted box has no reference to start from
   r.cmd("unfix pbc");
   r.cmd("fix pbc2 ends ncf/pbc faces x");
-  EXPECT_THAT(error_of([&] { r.cmd("run 0"); }),
+  EXPECT_THAT(error_of([&] {
+                r.cmd("run 0");
+              }),
               HasSubstr("fix ncf/pbc: the box must be orthogonal when the fix is defined"));
 }
 
@@ -410,7 +454,9 @@ TEST(FixPBC, AutoFacesTieOnlyThePairsWithEndNodes)
   EXPECT_EQ(l.value("f_pbc[2]"), 2.0 * mat.nchain);    // both ends of every chain
   // no end node anywhere: an error
   l.cmd("group inner subtract all ends");
-  EXPECT_THAT(error_of([&] { l.cmd("fix p2 inner ncf/pbc"); }),
+  EXPECT_THAT(error_of([&] {
+                l.cmd("fix p2 inner ncf/pbc");
+              }),
               HasSubstr("fix ncf/pbc: no end node of group inner lies on a periodic face"));
 }
 
