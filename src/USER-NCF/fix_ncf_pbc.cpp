@@ -119,7 +119,6 @@ void FixNCFPBC::take_state_of(const std::string &other_id)
                "the end nodes of its group",
                other_id, group->names[other->igroup], group->names[igroup]);
   nodes = other->nodes;
-  mine_ncalls = -1;
   ngroups = other->ngroups;
   group_pair = other->group_pair;
   std::copy(other->href, other->href + 6, href);
