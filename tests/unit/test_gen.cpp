@@ -513,6 +513,30 @@ TEST(GenYarn, MassScalingMultipliesEveryMass)
   EXPECT_NEAR(a.layers[0].dt_crit, a.layers[0].min_l0 * std::sqrt(905.0 / 120e9), 1e-20);
 }
 
+TEST(GenYarn, PackingSetsTheContactDiameterNotTheAxialStiffnessOrMass)
+{
+  // the paper's hexagonal packing by default; a looser yarn is wider (d ~ 1/sqrt(packing)) but
+  // carries the same filaments: E_c A and the mass per length do not change
+  Fabric a = build(card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT));
+  Fabric b = build(card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT, "yarn_packing 0.5\n"));
+  EXPECT_NEAR(a.yarn.chain.packing, NCF::HEXAGONAL_PACKING, 1e-15);
+  EXPECT_NEAR(b.yarn.chain.packing, 0.5, 1e-15);
+  EXPECT_NEAR(b.yarn.chain.diameter / a.yarn.chain.diameter,
+              std::sqrt(NCF::HEXAGONAL_PACKING / 0.5), 1e-12);
+  EXPECT_NEAR(b.yarn.chain.diameter * 1e6, 96.0, 0.5);    // 5.0 tex of PES at packing 0.5
+  EXPECT_NEAR(b.yarn.chain.ea, a.yarn.chain.ea, 1e-12 * a.yarn.chain.ea);
+  EXPECT_NEAR(b.yarn.chain.mass_per_length, a.yarn.chain.mass_per_length,
+              1e-12 * a.yarn.chain.mass_per_length);
+  // the legs open with the diameter, and the summary names the packing
+  EXPECT_NEAR(b.yarn.leg_offset / a.yarn.leg_offset, b.yarn.chain.diameter / a.yarn.chain.diameter,
+              1e-12);
+  const std::string text = summary_text(b);
+  const auto at = text.find("chain diameter, packing");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::string line = text.substr(at, text.find('\n', at) - at);
+  EXPECT_NE(line.find("um, 0.5000"), std::string::npos) << line;
+}
+
 // ------------------------------------------------------------------ outputs
 
 TEST(GenOutputs, SameSeedSameBytesOtherSeedOtherBytes)

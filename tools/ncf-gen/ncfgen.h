@@ -91,6 +91,7 @@ struct Card {
   int yarn_line = 0;
   bool loops_bottom = true;    // loops on the bottom face (z < 0), underlaps on the top face
   double leg_gap = 1.02;       // distance of the two yarn legs at one hole / yarn diameter
+  double yarn_packing = NCF::HEXAGONAL_PACKING;    // packing coefficient of the yarn chain
   // manufacturing (used by the stage scripts, written to the settings)
   double needle_diameter = 0.6e-3;    // needle shaft diameter [m]
   double pretension = 0.16;           // shrink of the yarn's rest length in stage 4 [-]

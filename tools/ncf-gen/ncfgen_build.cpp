@@ -489,7 +489,7 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
   YarnInfo &y = f.yarn;
   y.present = true;
   try {
-    y.chain = NCF::yarn_chain(lib.get(card.yarn));
+    y.chain = NCF::yarn_chain(lib.get(card.yarn), card.yarn_packing);
   } catch (InputError &e) {
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
                      "': " + e.what() + " (materials file " + card.materials_file + ")");

@@ -230,7 +230,8 @@ Card parse_card(const std::string &text, const std::string &path)
       {"mass_scaling", NONE}, {"sampling", NONE},         {"pattern", NONE},
       {"gauge", NONE},        {"stitch_length", LENGTH},  {"yarn", NONE},
       {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE},
-      {"needle_diameter", LENGTH}, {"pretension", NONE},  {"quality", NONE}};
+      {"needle_diameter", LENGTH}, {"pretension", NONE},  {"quality", NONE},
+      {"yarn_packing", NONE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -353,6 +354,10 @@ Card parse_card(const std::string &text, const std::string &path)
         card.loops_bottom = false;
       else
         fail(where, "key 'loops': value '" + val + "' must be 'bottom' or 'top'");
+    } else if (key == "yarn_packing") {
+      card.yarn_packing = positive(key);
+      if (card.yarn_packing > 1.0)
+        fail(where, "key 'yarn_packing': value '" + val + "' must be <= 1");
     } else if (key == "leg_gap") {
       card.leg_gap = positive(key);
       if (card.leg_gap < 1.0)

@@ -321,7 +321,8 @@ std::string summary_text(const Fabric &f)
   const YarnInfo &y = f.yarn;
   s += "\nstitching yarn (atom/bond type " + std::to_string(f.yarn_type()) + ")\n";
   line("material", c.yarn);
-  line("chain diameter (hexagonal packing)", fmt("%.2f um", y.chain.diameter * 1e6));
+  line("chain diameter, packing",
+       fmt("%.2f um", y.chain.diameter * 1e6) + fmt(", %.4f", y.chain.packing));
   line("E_c, rho_c, EA",
        fmt("%.5g GPa", y.chain.modulus * 1e-9) + fmt(", %.5g kg/m^3", y.chain.density) +
            fmt(", %.5g N", y.chain.ea));

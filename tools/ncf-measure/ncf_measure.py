@@ -127,7 +127,7 @@ def read_summary(path):
                 cur.sampled_mean = _num(m.group(1), where, "chain angles mean")
                 cur.sampled_std = _num(m.group(2), where, "chain angles sample std")
         elif in_yarn:
-            m = re.match(r"chain diameter \(hexagonal packing\)\s+(\S+) (\S+)", s)
+            m = re.match(r"chain diameter(?: \(hexagonal packing\)|, packing)\s+(\S+) ([^\s,]+)", s)
             if m:
                 fab.yarn_d = _with_unit([m.group(1), m.group(2)], _LENGTH, where, "yarn diameter")
             m = re.match(r"loops on / underlaps on\s+(\w+) /", s)
