@@ -92,7 +92,7 @@ for v in "${run_names[@]}"; do
     args=${vargs[$v]}
     [ "$args" = "-" ] && args=""
     pdyn=${vpdyn[$v]}
-    [ "$pdyn" = "-" ] && pdyn=1e4
+    [ "$pdyn" = "-" ] && pdyn=""    # the card's quality preset (ncf_pdyn of the settings)
     echo "[accuracy] $v seed $seed: $(date -u '+%H:%M:%S')"
     # GNU time: the wall time and the largest resident memory of any process of the run
     /usr/bin/time -f "%e %M" -o "$dir/time" env NCF_SEED="$seed" NCF_PDYN="$pdyn" NCF_LMP_ARGS="$args" \
