@@ -36,6 +36,20 @@ for fab in ${NCF_VALIDATE:-ncf090 ncf45}; do
       --out "$dir/measure" -q
   done
 done
+# Fig. 10: the orientation of every fabric's seeds measured together (densities averaged seed by
+# seed, mean and SD from the pooled bonds), into OUT/FABRIC-seeds/
+for fab in ncf090 ncf45; do
+  files=() needles=()
+  for d in "$out/$fab"-seed*; do
+    [ -s "$d/measure/ncf-measure-summary.csv" ] || continue
+    files+=("$d/$fab.release.data")
+    needles+=(--needles "$d/$fab.needles")
+    summary=$d/$fab.summary
+  done
+  [ ${#files[@]} -gt 1 ] || continue
+  ncf-measure "${files[@]}" "${needles[@]}" --summary "$summary" --no-defects \
+    --out "$out/$fab-seeds" -q
+done
 {
   echo "# Validation: the paper's comparison RVEs (generated $(date -u '+%Y-%m-%d %H:%M UTC'))"
   echo
@@ -55,6 +69,12 @@ done
     [ ${#csvs[@]} -gt 0 ] && args+=("--$fab" "${csvs[@]}")
   done
   echo
+  for fab in ncf090 ncf45; do
+    [ -s "$out/$fab-seeds/ncf-measure.md" ] || continue
+    echo "Orientation of $fab, all seeds (Fig. 10; $out/$fab-seeds/ncf-measure-orientation.png):"
+    echo
+    sed -n '/^| layer/,/^$/p' "$out/$fab-seeds/ncf-measure.md"
+  done
   echo "All measurements of all seeds pooled (mean ± SD, number of measurements):"
   echo
   /usr/bin/python3 "$root/examples/manufacturing/compare_paper.py" "${args[@]}"
