@@ -73,7 +73,7 @@ done
     [ -s "$out/$fab-seeds/ncf-measure.md" ] || continue
     echo "Orientation of $fab, all seeds (Fig. 10; $out/$fab-seeds/ncf-measure-orientation.png):"
     echo
-    sed -n '/^| layer/,/^$/p' "$out/$fab-seeds/ncf-measure.md"
+    sed -n '/^| layer/,/^$/{p;/^$/q}' "$out/$fab-seeds/ncf-measure.md"
   done
   echo "All measurements of all seeds pooled (mean ± SD, number of measurements):"
   echo
