@@ -497,6 +497,26 @@ class Loops(unittest.TestCase):
             self.assertAlmostEqual(l["chord"], 2.1 * MM, places=12)
 
 
+class Summary(unittest.TestCase):
+    def test_yarn_diameter_in_both_summary_formats(self):
+        # the generator's summary names the yarn's packing ("chain diameter, packing"); summaries
+        # of earlier versions said "chain diameter (hexagonal packing)": both give the diameter
+        src = os.path.join(ROOT, "examples", "gen-ncf45", "ncf45.summary")
+        with open(src) as f:
+            text = f.read()
+        self.assertIn("chain diameter, packing             71.32 um, 0.9069", text)
+        old = text.replace("chain diameter, packing             71.32 um, 0.9069",
+                           "chain diameter (hexagonal packing)  71.32 um")
+        with tmpdir() as tmp:
+            p = os.path.join(tmp, "old.summary")
+            with open(p, "w") as f:
+                f.write(old)
+            for path in (src, p):
+                fab = M.read_summary(path)
+                self.assertAlmostEqual(fab.yarn_d, 71.32e-6, delta=1e-12)
+                self.assertEqual([L.angle for L in fab.layers], [-45.0, 45.0])
+
+
 class CommandLine(unittest.TestCase):
     def fabric(self, tmp, skip_node=False, layer_of_second=1):
         lx, ly = 4.4 * MM, 2.0 * MM
