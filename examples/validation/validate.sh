@@ -5,7 +5,9 @@
 # Usage: bash examples/validation/validate.sh OUT [SEED ...]          (default seeds: 1 2 3)
 #   NCF_VALIDATE="ncf090 ncf45" (the fabrics), NCF_NP (ranks, default 2), NCF_LMP_ARGS as for
 #   examples/manufacturing/run.sh (a departure from Table 3 given there is the user's to state).
-# A run already complete in OUT (its release data and measurement exist) is not repeated.
+# A run already complete in OUT (its release data and measurement exist) is not repeated, nor is
+# one a guard of the stages stopped (no pass-through, doc/howto_manufacturing.md): its folder
+# keeps the reason in 'stopped', the other runs go on, and the table lists it.
 # About 20 minutes per fabric and seed on 2 cores. Writes OUT/validation.md.
 set -eEuo pipefail
 trap 'echo "[validate] stopped by a failing command (status $?), line $LINENO: $BASH_COMMAND"' ERR
@@ -26,8 +28,17 @@ for fab in ${NCF_VALIDATE:-ncf090 ncf45}; do
       echo "[validate] $fab seed $seed: done before ($dir)"
       continue
     fi
+    if [ -s "$dir/stopped" ]; then
+      echo "[validate] $fab seed $seed: stopped before ($dir/stopped; remove the folder to run it again)"
+      continue
+    fi
     t0=$SECONDS
-    NCF_RVE="${rve[$fab]}" NCF_SEED=$seed bash "$root/examples/manufacturing/run.sh" "$dir" "$fab"
+    if ! NCF_RVE="${rve[$fab]}" NCF_SEED=$seed bash "$root/examples/manufacturing/run.sh" "$dir" "$fab"; then
+      { grep -h "^ERROR" "$dir"/*.log 2>/dev/null | head -n 1 || true; } > "$dir/stopped"
+      [ -s "$dir/stopped" ] || echo "run.sh failed without a LAMMPS error (see its output)" > "$dir/stopped"
+      echo "[validate] $fab seed $seed: STOPPED, not measured: $(cat "$dir/stopped")"
+      continue
+    fi
     echo "$fab seed $seed rve ${rve[$fab]} wall_s $((SECONDS - t0)) ranks $NCF_NP" > "$dir/wall"
     /usr/bin/python3 "$root/examples/manufacturing/report_manufacturing.py" "$fab" --dir "$dir" \
       --out "$dir/manufacturing.md" > /dev/null ||
@@ -59,6 +70,10 @@ done
   for fab in ncf090 ncf45; do
     csvs=()
     for d in "$out/$fab"-seed*; do
+      if [ -s "$d/stopped" ]; then
+        echo "| $fab | ${d##*seed} | – | – | – | – | stopped: $(cat "$d/stopped") |"
+        continue
+      fi
       [ -s "$d/measure/ncf-measure-summary.csv" ] || continue
       csvs+=("$d/measure/ncf-measure-summary.csv")
       read -r _ _ seed _ r1 r2 _ wall _ np < "$d/wall"
