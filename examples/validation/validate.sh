@@ -48,7 +48,8 @@ for fab in ${NCF_VALIDATE:-ncf090 ncf45}; do
   done
 done
 # Fig. 10: the orientation of every fabric's seeds measured together (densities averaged seed by
-# seed, mean and SD from the pooled bonds), into OUT/FABRIC-seeds/
+# seed, mean and SD from the pooled bonds), into OUT/FABRIC-pooled/ (a name that the runs'
+# FABRIC-seed* does not match)
 for fab in ncf090 ncf45; do
   files=() needles=()
   for d in "$out/$fab"-seed*; do
@@ -59,7 +60,7 @@ for fab in ncf090 ncf45; do
   done
   [ ${#files[@]} -gt 1 ] || continue
   ncf-measure "${files[@]}" "${needles[@]}" --summary "$summary" --no-defects \
-    --out "$out/$fab-seeds" -q
+    --out "$out/$fab-pooled" -q
 done
 {
   echo "# Validation: the paper's comparison RVEs (generated $(date -u '+%Y-%m-%d %H:%M UTC'))"
@@ -85,10 +86,10 @@ done
   done
   echo
   for fab in ncf090 ncf45; do
-    [ -s "$out/$fab-seeds/ncf-measure.md" ] || continue
-    echo "Orientation of $fab, all seeds (Fig. 10; $out/$fab-seeds/ncf-measure-orientation.png):"
+    [ -s "$out/$fab-pooled/ncf-measure.md" ] || continue
+    echo "Orientation of $fab, all seeds (Fig. 10; $out/$fab-pooled/ncf-measure-orientation.png):"
     echo
-    sed -n '/^| layer/,/^$/{p;/^$/q}' "$out/$fab-seeds/ncf-measure.md"
+    sed -n '/^| layer/,/^$/{p;/^$/q}' "$out/$fab-pooled/ncf-measure.md"
   done
   echo "All measurements of all seeds pooled (mean ± SD, number of measurements):"
   echo
