@@ -31,8 +31,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -101,7 +99,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
       iarg += 3;
     } else if (key == "file") {
       if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'file' needs a file name");
-      read_needles(arg[iarg + 1]);
+      NCF_LMP::read_points(lmp, "fix ncf/needles", "needle", arg[iarg + 1], nx, ny);
       iarg += 2;
     } else if (key == "direction") {
       if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'direction' needs a value");
@@ -144,23 +142,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                length, NCF::needle_min_length(1.0), tip);
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
-  // positions outside the box: in a periodic direction the needle acts through its periodic
-  // image, so it is wrapped into the box (inside the box nothing changes); in a direction that
-  // is not periodic, or farther than a few box lengths (a typing mistake), it is an error
-  for (std::size_t k = 0; k < nx.size(); k++) {
-    double *xy[2] = {&nx[k], &ny[k]};
-    for (int d = 0; d < 2; d++) {
-      double &v = *xy[d];
-      const double lo = domain->boxlo[d], hi = domain->boxhi[d], prd = hi - lo;
-      if (v >= lo && v <= hi) continue;
-      if (!domain->periodicity[d] || !(v > lo - 100.0 * prd && v < hi + 100.0 * prd))
-        error->all(FLERR,
-                   "fix ncf/needles: needle {} at ({}, {}) lies outside the box in {} ([{}, {}]{})",
-                   k + 1, nx[k], ny[k], d ? "y" : "x", lo, hi,
-                   domain->periodicity[d] ? ", periodic, by more than 100 box lengths" : "");
-      v -= prd * std::floor((v - lo) / prd);
-    }
-  }
+  NCF_LMP::wrap_points(lmp, "fix ncf/needles", "needle", nx, ny);
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);
@@ -168,31 +150,6 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
 }
 
 FixNCFNeedles::~FixNCFNeedles() = default;
-
-void FixNCFNeedles::read_needles(const std::string &file)
-{
-  // every rank reads the small file; lines "x y", '#' comments
-  std::ifstream in(file);
-  if (!in) error->all(FLERR, "fix ncf/needles: cannot open needle file {}", file);
-  std::string line;
-  int lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    const auto pos = line.find('#');
-    if (pos != std::string::npos) line.erase(pos);
-    std::istringstream words(line);
-    std::string a, b, extra;
-    if (!(words >> a)) continue;
-    if (!(words >> b) || (words >> extra) || !utils::is_double(a) || !utils::is_double(b))
-      error->all(FLERR, "fix ncf/needles: {}:{}: expected 'x y', got '{}'", file, lineno, line);
-    const double x = std::strtod(a.c_str(), nullptr), y = std::strtod(b.c_str(), nullptr);
-    if (!std::isfinite(x) || !std::isfinite(y))
-      error->all(FLERR, "fix ncf/needles: {}:{}: needle position '{}' is not finite", file, lineno,
-                 line);
-    nx.push_back(x);
-    ny.push_back(y);
-  }
-}
 
 int FixNCFNeedles::setmask()
 {

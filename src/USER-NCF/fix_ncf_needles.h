@@ -69,7 +69,6 @@ class FixNCFNeedles : public Fix {
   std::vector<double> imgbuf;
   std::vector<double *> imgrows;
 
-  void read_needles(const std::string &file);
   void bin_needles();
   void needle_segment(int k, int i, const NCF::Vec3 &a0, const NCF::Vec3 &a1, double rc,
                       double half, NCF::Needle &needle, std::vector<double> &local, double &emine,

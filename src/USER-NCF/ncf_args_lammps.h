@@ -11,6 +11,7 @@
 #ifndef NCF_ARGS_LAMMPS_H
 #define NCF_ARGS_LAMMPS_H
 
+#include "domain.h"
 #include "error.h"
 #include "lammps.h"
 #include "utils.h"
@@ -18,8 +19,10 @@
 #include <cerrno>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace NCF_LMP {
 
@@ -102,6 +105,62 @@ inline void types(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::st
   if (lo < 1 || hi > n)
     lmp->error->all(FLERR, "{}: {} '{}': Numeric index {} is out of bounds (1-{})", what, key, text,
                     lo < 1 ? lo : hi, n);
+}
+
+// Points in the plane (needle or hole positions), as the generator's PREFIX.needles lists them:
+// one "x y" per line, '#' comments. Every rank reads the small file. `noun` names the points in
+// the messages ("needle", "hole").
+inline void read_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &noun,
+                        const std::string &file, std::vector<double> &x, std::vector<double> &y)
+{
+  FILE *fp = std::fopen(file.c_str(), "r");
+  if (!fp) lmp->error->all(FLERR, "{}: cannot open {} file {}", what, noun, file);
+  char buf[1024];
+  int lineno = 0;
+  while (std::fgets(buf, sizeof(buf), fp)) {
+    ++lineno;
+    std::string line = LAMMPS_NS::utils::trim_comment(buf);
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    const auto words = LAMMPS_NS::utils::split_words(line);
+    if (words.empty()) continue;
+    if (words.size() != 2 || !LAMMPS_NS::utils::is_double(words[0]) ||
+        !LAMMPS_NS::utils::is_double(words[1])) {
+      std::fclose(fp);
+      lmp->error->all(FLERR, "{}: {}:{}: expected 'x y', got '{}'", what, file, lineno, line);
+    }
+    const double px = std::strtod(words[0].c_str(), nullptr);
+    const double py = std::strtod(words[1].c_str(), nullptr);
+    if (!std::isfinite(px) || !std::isfinite(py)) {
+      std::fclose(fp);
+      lmp->error->all(FLERR, "{}: {}:{}: {} position '{}' is not finite", what, file, lineno, noun,
+                      line);
+    }
+    x.push_back(px);
+    y.push_back(py);
+  }
+  std::fclose(fp);
+}
+
+// Points outside the box: in a periodic direction a point acts through its periodic image, so it
+// is wrapped into the box (inside the box nothing changes); in a direction that is not periodic,
+// or farther than 100 box lengths (a typing mistake), it is an error.
+inline void wrap_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &noun,
+                        std::vector<double> &x, std::vector<double> &y)
+{
+  const auto *domain = lmp->domain;
+  for (std::size_t k = 0; k < x.size(); k++) {
+    double *xy[2] = {&x[k], &y[k]};
+    for (int d = 0; d < 2; d++) {
+      double &v = *xy[d];
+      const double lo = domain->boxlo[d], hi = domain->boxhi[d], prd = hi - lo;
+      if (v >= lo && v <= hi) continue;
+      if (!domain->periodicity[d] || !(v > lo - 100.0 * prd && v < hi + 100.0 * prd))
+        lmp->error->all(FLERR, "{}: {} {} at ({}, {}) lies outside the box in {} ([{}, {}]{})",
+                        what, noun, k + 1, x[k], y[k], d ? "y" : "x", lo, hi,
+                        domain->periodicity[d] ? ", periodic, by more than 100 box lengths" : "");
+      v -= prd * std::floor((v - lo) / prd);
+    }
+  }
 }
 
 }    // namespace NCF_LMP

@@ -297,3 +297,63 @@ TEST(FixPlate, NodeWithoutChainBondIsAnError)
               }),
               HasSubstr("has no ncf/chain bond: no tributary length"));
 }
+
+TEST(FixPlate, HolesLeaveTheirNodesFreeAndTheRimForceIsMinusDEDx)
+{
+  // nodes at x = A .. 5A (y = 0.5 mm), all pressed into the lower plate by g; a hole centred
+  // under node 3 whose rim (the chain radius wide) holds nodes 2 and 4 at s = 0.4
+  auto dir = scratch_dir("plate_holes");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 5, 30e-6, 1e-9));
+  const double rim = 0.5 * D, R = A - 0.4 * rim;
+  l.cmds(fmt::format(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.0 holes {:.17g} at {:.17g} 5e-4
+run 0
+)",
+                     2 * R, 3 * A));
+  const double g = 0.5 * D - 30e-6, w = 0.4 * 0.4 * (3 - 2 * 0.4);
+  auto f = l.forces();
+  EXPECT_NEAR(f[3 * 2 + 2], 0.0, 0.0);                   // node 3 over the hole
+  EXPECT_NEAR(f[3 * 0 + 2], KN * g * 0.5 * A, 1e-13);    // node 1: the plate
+  EXPECT_NEAR(f[3 * 1 + 2], w * KN * g * A, 1e-13);      // node 2: on the rim
+  EXPECT_NEAR(l.value("f_plate[7]"), 4.0, 0.0);          // four contacts
+  // on the rims the pull toward the hole: node 2 in +x, node 4 in -x, the same size
+  EXPECT_GT(f[3 * 1 + 0], 0.0);
+  EXPECT_NEAR(f[3 * 3 + 0], -f[3 * 1 + 0], 1e-15);
+  // -dE/dx of the plate's energy (fix scalar) by moving node 4 in x
+  const double h = 1e-10, x4 = 4 * A;
+  l.cmd(fmt::format("set atom 4 x {:.17g}", x4 + h));
+  l.cmd("run 0");
+  const double ep = l.value("f_plate");
+  l.cmd(fmt::format("set atom 4 x {:.17g}", x4 - h));
+  l.cmd("run 0");
+  const double em = l.value("f_plate");
+  EXPECT_NEAR(f[3 * 3 + 0], -(ep - em) / (2 * h), 1e-6 * std::fabs(f[3 * 3 + 0]));
+}
+
+TEST(FixPlate, FixModifyOpensAndClosesTheHoles)
+{
+  // the same plate, holes given later with fix_modify (as the stages after the compaction do)
+  // and taken away with 'holes none'
+  auto dir = scratch_dir("plate_holes_modify");
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 5, 30e-6, 1e-9));
+  l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+fix plate all ncf/plate kn 2e7 diameter 1 69e-6 lower z 0.0
+run 0
+)");
+  const double g = 0.5 * D - 30e-6;
+  EXPECT_NEAR(l.forces()[3 * 2 + 2], KN * g * A, 1e-13);
+  l.cmd(fmt::format("fix_modify plate holes {:.17g} at {:.17g} 5e-4", A, 3 * A));
+  l.cmd("run 0");
+  EXPECT_NEAR(l.forces()[3 * 2 + 2], 0.0, 0.0);
+  EXPECT_NEAR(l.value("f_plate[7]"), 4.0, 0.0);
+  l.cmd("fix_modify plate holes none");
+  l.cmd("run 0");
+  EXPECT_NEAR(l.forces()[3 * 2 + 2], KN * g * A, 1e-13);
+  EXPECT_NEAR(l.value("f_plate[7]"), 5.0, 0.0);
+}
