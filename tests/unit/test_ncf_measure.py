@@ -517,6 +517,63 @@ class Summary(unittest.TestCase):
                 self.assertEqual([L.angle for L in fab.layers], [-45.0, 45.0])
 
 
+class Overlaps(unittest.TestCase):
+    """ncf-overlaps on a scene of known overlaps: two chains of layer 1 whose free ends come
+    within 40 um across a periodic face (overlap d - 40 um, both at a free end, 30 deg apart) and
+    a periodic chain of layer 2 crossing the first one's interior 10 um too low (overlap 10 um,
+    neither)."""
+
+    def scene(self, tmp):
+        L = 2 * MM
+        # (the end segments of A and B straddle the periodic face x = L)
+        a = Chain(straight(0.63 * MM, 1.0 * MM, 2.03 * MM, 1.0 * MM, 0.1 * MM), 1)
+        c30, s30 = math.cos(math.radians(30)), math.sin(math.radians(30))
+        b = Chain(straight(2.03 * MM, 1.04 * MM, 2.03 * MM - 0.5 * MM * c30,
+                           1.04 * MM + 0.5 * MM * s30, 0.1 * MM), 1)
+        # (crossing A and crossed by A in the middle of a segment each)
+        c = Chain(straight(1.18 * MM, 0.05 * MM, 1.18 * MM, L + 0.05 * MM, 0.1 * MM + D - 10 * UM,
+                           include_end=False), 2, closed=True)
+        path = os.path.join(tmp, "ov.data")
+        write_data(path, (L, L, -1 * MM, 1 * MM), [a, b, c], 2)
+        return path
+
+    def test_known_overlaps_and_their_kind(self):
+        import ncf_overlaps as O
+        with tmpdir() as tmp:
+            data = M.read_data(self.scene(tmp))
+            out = io.StringIO()
+            r = O.report(data, {1: D, 2: D}, top=5, out=out)
+        self.assertEqual(len(r["overlap"]), 2)
+        self.assertAlmostEqual(r["overlap"][0], D - 40 * UM, delta=1e-12)
+        self.assertAlmostEqual(r["angle"][0], 30.0, delta=1e-6)
+        self.assertTrue(r["free_end"][r["i"][0]] and r["free_end"][r["j"][0]])
+        self.assertAlmostEqual(r["overlap"][1], 10 * UM, delta=1e-12)
+        self.assertAlmostEqual(r["angle"][1], 90.0, delta=1e-6)
+        self.assertFalse(r["free_end"][r["i"][1]] or r["free_end"][r["j"][1]])
+        text = out.getvalue()
+        self.assertIn("| both segments at a free chain end | 1 | 29.00 | 0.420 | 1 |", text)
+        self.assertIn("| neither | 1 | 10.00 | 0.145 | 0 |", text)
+
+    def test_thicker_chains_touch_at_the_mean_diameter(self):
+        # layer 2 twice as thick: the crossing's contact distance is 1.5 d, overlap 10 um + d / 2
+        import ncf_overlaps as O
+        with tmpdir() as tmp:
+            data = M.read_data(self.scene(tmp))
+            r = O.overlaps(data, {1: D, 2: 2 * D})
+        self.assertAlmostEqual(r["overlap"][0], 10 * UM + 0.5 * D, delta=1e-12)
+
+    def test_bad_diameter_and_missing_layer_are_errors(self):
+        import ncf_overlaps as O
+        with tmpdir() as tmp:
+            path = self.scene(tmp)
+            err = io.StringIO()
+            with redirect_stderr(err):
+                self.assertEqual(O.main([path, "--diameter", "0"]), 2)
+            self.assertIn("--diameter 0.0: must be > 0", err.getvalue())
+            with self.assertRaisesRegex(M.MeasureError, r"layer\(s\) \[2\] have no chain diameter"):
+                O.overlaps(M.read_data(path), {1: D})
+
+
 class CommandLine(unittest.TestCase):
     def fabric(self, tmp, skip_node=False, layer_of_second=1):
         lx, ly = 4.4 * MM, 2.0 * MM
