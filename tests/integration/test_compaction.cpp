@@ -154,3 +154,53 @@ TEST(Compaction, QualityPresetGivesTheRunParametersAndTheCommandLineWins)
   // the plate reached t_L with the preset's speed
   EXPECT_NEAR(l.value("v_gap"), l.value("v_ncf_thickness"), 1e-9 * l.value("v_ncf_thickness"));
 }
+
+TEST(Compaction, EndsFaceLetTheEndsSlideAlongTheirFaceOnly)
+{
+  // -var ends face: the end nodes keep their coordinate normal to their RVE face (x for the ends
+  // on the x faces, y for those on the y faces) and move in the other two; with the default
+  // (vertical, the paper's) they keep both in-plane coordinates
+  const std::string dir = scratch_dir("compaction_ends_face");
+  const std::string prefix = generate(source_path("examples/needles/mini.card"), dir + "/mini");
+  const Data layers = read_data_file(prefix + ".layers.data");
+  std::vector<double> x0;
+  {
+    Lammps g;
+    g.cmds(R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+bond_style ncf/chain
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end ghost yes
+)");
+    g.cmd("read_data " + prefix +
+          ".layers.data fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0 fix NCF_NODE NULL NCF_NODE");
+    x0 = g.positions();
+  }
+  for (const std::string ends : {"face", "vertical"}) {
+    Lammps l;
+    compact(l, dir, {"ends " + ends, "hold 200"});
+    const auto x = l.positions();
+    double normal = 0.0, along = 0.0;    // largest moves normal to the face and along it
+    int xface = 0, yface = 0;
+    for (const auto &[tag, code] : layers.end) {
+      if (code == 0) continue;
+      const size_t i = 3 * (size_t) (tag - 1);
+      const int n = code <= 2 ? 0 : 1;    // XLO, XHI: x; YLO, YHI: y
+      (n == 0 ? xface : yface)++;
+      normal = std::max(normal, std::fabs(x[i + n] - x0[i + n]));
+      along = std::max(along, std::fabs(x[i + 1 - n] - x0[i + 1 - n]));
+    }
+    printf("[ compaction ] ends %s: %d x-face and %d y-face end nodes, largest move normal to "
+           "the face %.3g m, along it %.3g m; pressure at t_L %.4g Pa\n",
+           ends.c_str(), xface, yface, normal, along, l.value("f_plates[5]"));
+    EXPECT_GT(xface, 0);
+    EXPECT_GT(yface, 0);
+    EXPECT_EQ(normal, 0.0) << ends;
+    if (ends == "face")
+      EXPECT_GT(along, 1e-6) << "the ends did not slide along their faces";
+    else
+      EXPECT_EQ(along, 0.0);
+  }
+}
