@@ -33,8 +33,8 @@ static constexpr int NTOT = 5;
 /* ---------------------------------------------------------------------- */
 
 FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kn(0.0), kt(0.0), mu(0.0), damp(0.0), hole_r(0.0), slip(nullptr),
-    use_history(0), energy(0.0), dt_contact(0.0), idx_l0(-1)
+    Fix(lmp, narg, arg), kn(0.0), kt(0.0), mu(0.0), damp(0.0), slip(nullptr), use_history(0),
+    energy(0.0), dt_contact(0.0), idx_l0(-1)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -78,7 +78,7 @@ FixNCFPlate::~FixNCFPlate()
 
 /* ----------------------------------------------------------------------
    fix ID group ncf/plate kn KN [kt KT] [mu MU] [damp C] diameter TYPES D [diameter ...]
-                              [lower SPEC] [upper SPEC] [holes DH (file FILE | at X Y [at X Y ...])]
+                              [lower SPEC] [upper SPEC]
    SPEC: z Z | move Z0 V | target Z0 ZT V | v_NAME
 ------------------------------------------------------------------------- */
 
@@ -100,11 +100,6 @@ void FixNCFPlate::parse(int narg, char **arg)
         error->all(FLERR, "fix ncf/plate: keyword '{}' given twice (one plate of each)", key);
       iarg = NCF_LMP::parse_motion(lmp, "fix ncf/plate: '" + key, iarg + 1, narg, arg, p.motion,
                                    p.var, true);
-      continue;
-    }
-    if (key == "holes") {
-      if (!hole_x.empty()) error->all(FLERR, "fix ncf/plate: keyword 'holes' given twice");
-      iarg = parse_holes(iarg, narg, arg);
       continue;
     }
     if (key != "kn" && key != "kt" && key != "mu" && key != "damp" && key != "diameter")
@@ -142,78 +137,6 @@ void FixNCFPlate::parse(int narg, char **arg)
   if (!any)
     error->all(FLERR,
                "fix ncf/plate: give the chain diameter of the atom types: 'diameter TYPES D'");
-  check_holes();
-}
-
-/* ----------------------------------------------------------------------
-   holes DH (file FILE | at X Y [at X Y ...]) from arg[iarg] ("holes"); returns the next index
-------------------------------------------------------------------------- */
-
-int FixNCFPlate::parse_holes(int iarg, int narg, char **arg)
-{
-  if (iarg + 1 >= narg)
-    error->all(FLERR,
-               "fix ncf/plate: keyword 'holes' needs a diameter and 'file FILE' or 'at X Y'");
-  const double d = NCF_LMP::number(lmp, "fix ncf/plate", "holes", arg[iarg + 1]);
-  if (!(d > 0.0)) error->all(FLERR, "fix ncf/plate: holes must be > 0, got {}", arg[iarg + 1]);
-  hole_r = 0.5 * d;
-  hole_x.clear();
-  hole_y.clear();
-  iarg += 2;
-  while (iarg < narg && (strcmp(arg[iarg], "file") == 0 || strcmp(arg[iarg], "at") == 0)) {
-    if (strcmp(arg[iarg], "file") == 0) {
-      if (iarg + 1 >= narg)
-        error->all(FLERR, "fix ncf/plate: keyword 'holes ... file' needs a file name");
-      NCF_LMP::read_points(lmp, "fix ncf/plate", "hole", arg[iarg + 1], hole_x, hole_y);
-      iarg += 2;
-    } else {
-      if (iarg + 2 >= narg)
-        error->all(FLERR, "fix ncf/plate: keyword 'holes ... at' needs the values X Y");
-      hole_x.push_back(NCF_LMP::number(lmp, "fix ncf/plate", "holes ... at", arg[iarg + 1]));
-      hole_y.push_back(NCF_LMP::number(lmp, "fix ncf/plate", "holes ... at", arg[iarg + 2]));
-      iarg += 3;
-    }
-  }
-  if (hole_x.empty())
-    error->all(FLERR,
-               "fix ncf/plate: keyword 'holes' needs 'file FILE' or 'at X Y' after its diameter");
-  return iarg;
-}
-
-// the holes inside the box (periodic images wrapped), their rims apart
-void FixNCFPlate::check_holes()
-{
-  if (hole_x.empty()) return;
-  NCF_LMP::wrap_points(lmp, "fix ncf/plate", "hole", hole_x, hole_y);
-  // the rim of a hole is rounded over the chain radius: the largest one sets how far apart the
-  // holes must be
-  double rim = 0.0;
-  for (double d : diameter) rim = std::max(rim, 0.5 * d);
-  if (NCF::holes_overlap(hole_x.data(), hole_y.data(), (int) hole_x.size(), hole_r, rim,
-                         domain->xperiodic ? domain->xprd : 0.0,
-                         domain->yperiodic ? domain->yprd : 0.0))
-    error->all(FLERR,
-               "fix ncf/plate: holes of diameter {} with their rims (the largest chain radius, {}) "
-               "overlap each other or their periodic images",
-               2.0 * hole_r, rim);
-}
-
-/* ----------------------------------------------------------------------
-   fix_modify ID holes DH (file FILE | at X Y ...) | holes none
-------------------------------------------------------------------------- */
-
-int FixNCFPlate::modify_param(int narg, char **arg)
-{
-  if (strcmp(arg[0], "holes") != 0) return 0;
-  if (narg >= 2 && strcmp(arg[1], "none") == 0) {
-    hole_x.clear();
-    hole_y.clear();
-    hole_r = 0.0;
-    return 2;
-  }
-  const int next = parse_holes(0, narg, arg);
-  check_holes();
-  return next;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -357,9 +280,6 @@ void FixNCFPlate::apply()
   // in the setup of a run the friction force of the stored slip, the slip left as it is (the
   // history advances in steps only, so that a run cut into pieces is the same run)
   const bool advance = !update->setupflag;
-  // the periods of the holes' pattern
-  const double lx = domain->xperiodic ? domain->xprd : 0.0;
-  const double ly = domain->yperiodic ? domain->yprd : 0.0;
 
   double local[2][NTOT] = {{0.0}};
   double elocal = 0.0;
@@ -378,23 +298,7 @@ void FixNCFPlate::apply()
         continue;
       }
       const double l = tributary_length(i);
-      auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
-      if (!hole_x.empty()) {
-        // over a hole the plate is not there; on its rim the contact fades (ncf_wall.h)
-        const auto h = NCF::hole_weight(x[i][0], x[i][1], hole_x.data(), hole_y.data(),
-                                        (int) hole_x.size(), hole_r, radius, lx, ly);
-        if (h.w == 0.0) {
-          if (s) s[0] = s[1] = s[2] = 0.0;
-          continue;
-        }
-        const double fx = -c.energy * h.gx, fy = -c.energy * h.gy;
-        f[i][0] += fx;
-        f[i][1] += fy;
-        local[k][1] += fx;
-        local[k][2] += fy;
-        c.force *= h.w;
-        c.energy *= h.w;
-      }
+      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
       f[i][2] += side * c.force;
       local[k][0] += side * c.force;
       local[k][3] += 1.0;

@@ -38,7 +38,6 @@ class FixNCFPlate : public Fix {
   void write_restart(FILE *) override;
   void restart(char *) override;
   int image(int *&, double **&) override;
-  int modify_param(int, char **) override;
 
   double memory_usage() override;
   void grow_arrays(int) override;
@@ -59,11 +58,9 @@ class FixNCFPlate : public Fix {
   };
   Plate plate[2];    // 0: lower (normal +z), 1: upper (normal -z)
   double kn, kt, mu, damp;
-  std::vector<double> diameter;          // per atom type, 0 = not given
-  std::vector<double> hole_x, hole_y;    // centres of the plates' holes (none: solid plates)
-  double hole_r;                         // their radius
-  NCF_LMP::ToolClock clock;              // time of the motion since the fix definition
-  double zprev[2];                       // VARIABLE: previous position for the plate velocity
+  std::vector<double> diameter;    // per atom type, 0 = not given
+  NCF_LMP::ToolClock clock;        // time of the motion since the fix definition
+  double zprev[2];                 // VARIABLE: previous position for the plate velocity
 
   double **slip;    // per atom: slip vectors against the lower (0..2) and upper (3..5) plate
   int use_history;
@@ -78,8 +75,6 @@ class FixNCFPlate : public Fix {
   std::vector<double *> imgrows;
 
   void parse(int, char **);
-  int parse_holes(int, int, char **);
-  void check_holes();
   void update_plates();
   void apply();
   double tributary_length(int i) const;
