@@ -107,9 +107,9 @@ inline void types(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::st
                     lo < 1 ? lo : hi, n);
 }
 
-// Points in the plane (needle or hole positions), as the generator's PREFIX.needles lists them:
-// one "x y" per line, '#' comments. Every rank reads the small file. `noun` names the points in
-// the messages ("needle", "hole").
+// Points in the plane (needle positions), as the generator's PREFIX.needles lists them: one "x y"
+// per line (lines up to 1023 characters), '#' comments. Every rank reads the small file. `noun`
+// names the points in the messages ("needle").
 inline void read_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &noun,
                         const std::string &file, std::vector<double> &x, std::vector<double> &y)
 {
