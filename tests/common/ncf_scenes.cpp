@@ -214,4 +214,15 @@ std::string generate(const std::string &card, const std::string &prefix)
   return prefix;
 }
 
+const char *const GENERATED_SETUP = R"(
+units si
+atom_style bond
+atom_modify map array
+boundary p p f
+bond_style ncf/chain
+fix NCF_NODE all property/atom i_ncf_layer i_ncf_end ghost yes
+)";
+const char *const GENERATED_READ_FIXES =
+    " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0 fix NCF_NODE NULL NCF_NODE";
+
 }    // namespace ncftest

@@ -65,6 +65,12 @@ struct Data {
 };
 Data read_data_file(const std::string &path);
 
+// LAMMPS commands before reading a generator's data file (atom style, box, bond style, the node
+// properties), and the read_data keywords that take its NCF_CHAIN_L0 and NCF_NODE sections:
+//   l.cmds(GENERATED_SETUP); l.cmd("read_data " + prefix + ".layers.data" + GENERATED_READ_FIXES);
+extern const char *const GENERATED_SETUP;
+extern const char *const GENERATED_READ_FIXES;
+
 // Runs the ncf-gen tool of the build (NCF_BUILD) on a card; returns the output prefix.
 std::string generate(const std::string &card, const std::string &prefix);
 

@@ -16,9 +16,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <vector>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 using namespace ncftest;
 
@@ -61,8 +61,8 @@ void compact(Lammps &l, const std::string &dir, const std::vector<std::string> &
 {
   std::filesystem::current_path(dir);
   l.cmd("variable prefix index mini");
-  for (const auto &v : vars) l.cmd("variable " + v.substr(0, v.find(' ')) + " index " +
-                                   v.substr(v.find(' ') + 1));
+  for (const auto &v : vars)
+    l.cmd("variable " + v.substr(0, v.find(' ')) + " index " + v.substr(v.find(' ') + 1));
   l.cmd("variable here index " + source_path("examples/manufacturing"));
   l.cmd("include " + source_path("examples/manufacturing/in.compact"));
 }
@@ -166,16 +166,8 @@ TEST(Compaction, EndsFaceLetTheEndsSlideAlongTheirFaceOnly)
   std::vector<double> x0;
   {
     Lammps g;
-    g.cmds(R"(
-units si
-atom_style bond
-atom_modify map array
-boundary p p f
-bond_style ncf/chain
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end ghost yes
-)");
-    g.cmd("read_data " + prefix +
-          ".layers.data fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0 fix NCF_NODE NULL NCF_NODE");
+    g.cmds(GENERATED_SETUP);
+    g.cmd("read_data " + prefix + ".layers.data" + GENERATED_READ_FIXES);
     x0 = g.positions();
   }
   for (const std::string ends : {"face", "vertical"}) {

@@ -27,17 +27,6 @@ using namespace ncftest;
 
 namespace {
 
-const char *SETUP = R"(
-units si
-atom_style bond
-atom_modify map array
-boundary p p f
-bond_style ncf/chain
-fix NCF_NODE all property/atom i_ncf_layer i_ncf_end ghost yes
-)";
-
-const std::string READ_FIXES = " fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0 fix NCF_NODE NULL NCF_NODE";
-
 // segments of the bonds of a data file from the positions LAMMPS holds (unwrapped, by tag)
 std::vector<NCFGEN::Segment> segments(const Data &d, long offset, const std::vector<double> &x,
                                       const std::map<int, double> &diameter, double lx)
@@ -71,8 +60,8 @@ void load_and_check(const std::string &card, const std::string &name)
 
   auto lp = std::make_unique<Lammps>();
   Lammps &l = *lp;
-  l.cmds(SETUP);
-  l.cmd("read_data " + prefix + ".layers.data" + READ_FIXES);
+  l.cmds(GENERATED_SETUP);
+  l.cmd("read_data " + prefix + ".layers.data" + GENERATED_READ_FIXES);
   l.cmd("include " + prefix + ".settings.lmp");
   EXPECT_EQ((long) l.value("atoms"), layers.atoms);
   EXPECT_EQ((long) l.value("bonds"), layers.bonds);
@@ -96,7 +85,7 @@ void load_and_check(const std::string &card, const std::string &name)
   }
 
   // the stitching yarn, appended as a later stage does
-  l.cmd("read_data " + prefix + ".yarn.data add append" + READ_FIXES);
+  l.cmd("read_data " + prefix + ".yarn.data add append" + GENERATED_READ_FIXES);
   l.cmd("include " + prefix + ".yarn.lmp");
   EXPECT_EQ((long) l.value("atoms"), layers.atoms + yarn.atoms);
   EXPECT_EQ((long) l.value("bonds"), layers.bonds + yarn.bonds);
@@ -150,8 +139,8 @@ void load_and_check(const std::string &card, const std::string &name)
   lp.reset();
   for (const std::string part : {"layers", "yarn"}) {
     Lammps p;
-    p.cmds(SETUP);
-    p.cmd("read_data " + prefix + "." + part + ".data" + READ_FIXES);
+    p.cmds(GENERATED_SETUP);
+    p.cmd("read_data " + prefix + "." + part + ".data" + GENERATED_READ_FIXES);
     p.cmd("include " + prefix + ".settings.lmp");
     p.cmds("pair_style ncf/contact\npair_coeff * * kn 1e8 diameter ${ncf_d_fibre}\n"
            "pair_coeff ${ncf_yarn_type} ${ncf_yarn_type} diameter ${ncf_d_yarn}\n"
