@@ -99,7 +99,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
       iarg += 3;
     } else if (key == "file") {
       if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'file' needs a file name");
-      NCF_LMP::read_points(lmp, "fix ncf/needles", "needle", arg[iarg + 1], nx, ny);
+      NCF_LMP::read_needles(lmp, "fix ncf/needles", arg[iarg + 1], nx, ny);
       iarg += 2;
     } else if (key == "direction") {
       if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'direction' needs a value");
@@ -142,7 +142,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                length, NCF::needle_min_length(1.0), tip);
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
-  NCF_LMP::wrap_points(lmp, "fix ncf/needles", "needle", nx, ny);
+  NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);

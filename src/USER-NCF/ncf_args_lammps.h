@@ -107,14 +107,13 @@ inline void types(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::st
                     lo < 1 ? lo : hi, n);
 }
 
-// Points in the plane (needle positions), as the generator's PREFIX.needles lists them: one "x y"
-// per line (lines up to 1023 characters), '#' comments. Every rank reads the small file. `noun`
-// names the points in the messages ("needle").
-inline void read_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &noun,
-                        const std::string &file, std::vector<double> &x, std::vector<double> &y)
+// Needle positions in the plane, as the generator's PREFIX.needles lists them: one "x y" per line
+// (lines up to 1023 characters), '#' comments. Every rank reads the small file.
+inline void read_needles(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &file,
+                         std::vector<double> &x, std::vector<double> &y)
 {
   FILE *fp = std::fopen(file.c_str(), "r");
-  if (!fp) lmp->error->all(FLERR, "{}: cannot open {} file {}", what, noun, file);
+  if (!fp) lmp->error->all(FLERR, "{}: cannot open needle file {}", what, file);
   char buf[1024];
   int lineno = 0;
   while (std::fgets(buf, sizeof(buf), fp)) {
@@ -132,7 +131,7 @@ inline void read_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const s
     const double py = std::strtod(words[1].c_str(), nullptr);
     if (!std::isfinite(px) || !std::isfinite(py)) {
       std::fclose(fp);
-      lmp->error->all(FLERR, "{}: {}:{}: {} position '{}' is not finite", what, file, lineno, noun,
+      lmp->error->all(FLERR, "{}: {}:{}: needle position '{}' is not finite", what, file, lineno,
                       line);
     }
     x.push_back(px);
@@ -141,11 +140,11 @@ inline void read_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const s
   std::fclose(fp);
 }
 
-// Points outside the box: in a periodic direction a point acts through its periodic image, so it
-// is wrapped into the box (inside the box nothing changes); in a direction that is not periodic,
-// or farther than 100 box lengths (a typing mistake), it is an error.
-inline void wrap_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &noun,
-                        std::vector<double> &x, std::vector<double> &y)
+// Needles outside the box: in a periodic direction a needle acts through its periodic image, so
+// it is wrapped into the box (inside the box nothing changes); in a direction that is not
+// periodic, or farther than 100 box lengths (a typing mistake), it is an error.
+inline void wrap_needles(LAMMPS_NS::LAMMPS *lmp, const std::string &what, std::vector<double> &x,
+                         std::vector<double> &y)
 {
   const auto *domain = lmp->domain;
   for (std::size_t k = 0; k < x.size(); k++) {
@@ -155,8 +154,8 @@ inline void wrap_points(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const s
       const double lo = domain->boxlo[d], hi = domain->boxhi[d], prd = hi - lo;
       if (v >= lo && v <= hi) continue;
       if (!domain->periodicity[d] || !(v > lo - 100.0 * prd && v < hi + 100.0 * prd))
-        lmp->error->all(FLERR, "{}: {} {} at ({}, {}) lies outside the box in {} ([{}, {}]{})",
-                        what, noun, k + 1, x[k], y[k], d ? "y" : "x", lo, hi,
+        lmp->error->all(FLERR, "{}: needle {} at ({}, {}) lies outside the box in {} ([{}, {}]{})",
+                        what, k + 1, x[k], y[k], d ? "y" : "x", lo, hi,
                         domain->periodicity[d] ? ", periodic, by more than 100 box lengths" : "");
       v -= prd * std::floor((v - lo) / prd);
     }
