@@ -51,8 +51,8 @@ done
 
 # the card of a variant: the fabric card with the variant's lines in place of the lines of the
 # same keywords (each keyword must be in the card once, so that nothing is silently added or left)
-# and its lines written '+keyword value' added (the keyword must not be in the card), the
-# materials file made absolute
+# and its lines written '+keyword value' added (the keyword must not be in the card) and those
+# written '-keyword' removed (the keyword must be in the card once), the materials file made absolute
 make_card() {    # variant file
   local v=$1 dst=$2 mat
   mat=$(awk '$1 == "materials" { print $2; exit }' "$card")
@@ -63,6 +63,14 @@ make_card() {    # variant file
   IFS=';' read -ra lines <<< "${vcard[$v]}"
   for line in "${lines[@]}"; do
     line=$(trim "$line")
+    if [[ "$line" == -* ]]; then
+      key=${line#-}
+      n=$(awk -v k="$key" '$1 == k' "$dst" | wc -l)
+      [ "$n" = 1 ] || { echo "study.sh: variant $v: keyword '$key' to remove is in the card $n times (needs 1)"; exit 1; }
+      awk -v k="$key" '$1 != k' "$dst" > "$dst.tmp"
+      mv "$dst.tmp" "$dst"
+      continue
+    fi
     if [[ "$line" == +* ]]; then
       line=${line#+}
       key=${line%% *}
