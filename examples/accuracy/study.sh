@@ -97,13 +97,26 @@ for v in "${run_names[@]}"; do
     rm -rf "$dir" && mkdir -p "$dir"
     make_card "$v" "$dir/study.card"
     prefix=$(awk '$1 == "name" { print $2; exit }' "$dir/study.card")
-    args=${vargs[$v]}
-    [ "$args" = "-" ] && args=""
+    # the LAMMPS arguments: for every stage, or 'stage: arguments' for one stage (';' between)
+    args="" stage_env=()
+    if [ "${vargs[$v]}" != "-" ]; then
+      IFS=';' read -ra parts <<< "${vargs[$v]}"
+      for part in "${parts[@]}"; do
+        part=$(trim "$part")
+        if [[ "$part" =~ ^(compact|pierce|stitch|pretension|release):(.*)$ ]]; then
+          stage_env+=("NCF_ARGS_${BASH_REMATCH[1]}=$(trim "${BASH_REMATCH[2]}")")
+        elif [[ "$part" =~ ^[a-z]+: ]]; then
+          echo "study.sh: variant $v: '${part%%:*}' is not a stage (compact pierce stitch pretension release)"; exit 1
+        else
+          args="$args $part"
+        fi
+      done
+    fi
     pdyn=${vpdyn[$v]}
     [ "$pdyn" = "-" ] && pdyn=""    # the card's quality preset (ncf_pdyn of the settings)
     echo "[accuracy] $v seed $seed: $(date -u '+%H:%M:%S')"
     # GNU time: the wall time and the largest resident memory of any process of the run
-    /usr/bin/time -f "%e %M" -o "$dir/time" env NCF_SEED="$seed" NCF_PDYN="$pdyn" NCF_LMP_ARGS="$args" \
+    /usr/bin/time -f "%e %M" -o "$dir/time" env NCF_SEED="$seed" NCF_PDYN="$pdyn" NCF_LMP_ARGS="$args" "${stage_env[@]}" \
       bash "$root/examples/manufacturing/run.sh" "$dir" "$dir/study.card" > "$dir/run.out" 2>&1 ||
       { echo "[accuracy] $v seed $seed FAILED: $dir/run.out"; tail -5 "$dir/run.out"; continue; }
     echo "$v $seed $NCF_NP $(cat "$dir/time") $prefix" > "$dir/run.info"
