@@ -53,6 +53,7 @@ done
 # same keywords (each keyword must be in the card once, so that nothing is silently added or left)
 # and its lines written '+keyword value' added (the keyword must not be in the card) and those
 # written '-keyword' removed (the keyword must be in the card once), the materials file made absolute
+key_count() { awk -v k="$1" '$1 == k' "$2" | wc -l; }    # keyword file: its lines in the file
 make_card() {    # variant file
   local v=$1 dst=$2 mat
   mat=$(awk '$1 == "materials" { print $2; exit }' "$card")
@@ -65,7 +66,7 @@ make_card() {    # variant file
     line=$(trim "$line")
     if [[ "$line" == -* ]]; then
       key=${line#-}
-      n=$(awk -v k="$key" '$1 == k' "$dst" | wc -l)
+      n=$(key_count "$key" "$dst")
       [ "$n" = 1 ] || { echo "study.sh: variant $v: keyword '$key' to remove is in the card $n times (needs 1)"; exit 1; }
       awk -v k="$key" '$1 != k' "$dst" > "$dst.tmp"
       mv "$dst.tmp" "$dst"
@@ -74,13 +75,13 @@ make_card() {    # variant file
     if [[ "$line" == +* ]]; then
       line=${line#+}
       key=${line%% *}
-      n=$(awk -v k="$key" '$1 == k' "$dst" | wc -l)
+      n=$(key_count "$key" "$dst")
       [ "$n" = 0 ] || { echo "study.sh: variant $v: keyword '$key' to add is in the card already"; exit 1; }
       printf '%s    # study variant\n' "$line" >> "$dst"
       continue
     fi
     key=${line%% *}
-    n=$(awk -v k="$key" '$1 == k' "$dst" | wc -l)
+    n=$(key_count "$key" "$dst")
     [ "$n" = 1 ] || { echo "study.sh: variant $v: keyword '$key' is in the card $n times (needs 1)"; exit 1; }
     awk -v k="$key" -v l="$line" '$1 == k { print l "    # study variant"; next } { print }' "$dst" > "$dst.tmp"
     mv "$dst.tmp" "$dst"
