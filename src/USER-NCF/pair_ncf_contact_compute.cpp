@@ -14,6 +14,7 @@
 #include "comm.h"
 #include "error.h"
 #include "neighbor.h"
+#include "timer.h"
 #include "update.h"
 
 #include "ncf_contact.h"
@@ -554,10 +555,15 @@ void PairNCFContact::compute(int eflag, int vflag)
   if (batch.n > 0) flush();
   keep_last = nnear_pairs > 0 ? (double) nkept / nnear_pairs : 1.0;
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
-  // rows of the previous step, not yet replaced) only in steps where some rank has one
+  // rows of the previous step, not yet replaced) only in steps where some rank has one. The wait
+  // for the other ranks in the reduction and this communication are timed as Comm, not as Pair:
+  // the Pair time stays the work of this rank, which 'balance ... weight time' divides
   if (use_history) {
     int need = deferred.empty() ? 0 : 1, any = need;
-    if (comm->nprocs > 1) MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
+    if (comm->nprocs > 1) {
+      timer->stamp(Timer::PAIR);
+      MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
+    }
     if (any) {
       // the rows of the last step, sent to the ghosts
       store_history(hlast);
@@ -570,8 +576,10 @@ void PairNCFContact::compute(int eflag, int vflag)
       } else {
         comm->forward_comm(this);
       }
-      for (const int e : deferred) pair_contact(e, false);
     }
+    if (comm->nprocs > 1) timer->stamp(Timer::COMM);
+    if (any)
+      for (const int e : deferred) pair_contact(e, false);
   }
 
   // cap contact of segment ao-ia (ao owned here) with the interior node k (chain kp-k-kq)
