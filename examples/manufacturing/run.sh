@@ -13,7 +13,7 @@
 #   FABRIC: ncf090 (0/90 tricot-chain), ncf45 (+-45 tricot) - the cards under examples/gen-*/ -
 #           or the path of any fabric card (doc/ncf-gen.md); default: ncf45 ncf090
 # Environment:
-#   NCF_NP       MPI ranks (default 1); the stages get the processor grid of proc_grid below
+#   NCF_NP       MPI ranks (default 1)
 #   NCF_STAGES   stages to run, e.g. "1-5" (default), "1", "3-5" (the earlier ones' restart files
 #                must be in OUT)
 #   NCF_SEED     random seed of the chain angles (default: the card's)
@@ -44,35 +44,6 @@ first=${range%-*} last=${range#*-}
 
 run_lmp() { if [ "$np" -gt 1 ]; then mpirun -np "$np" --oversubscribe lmp "$@"; else lmp "$@"; fi; }
 
-# the processor grid of the stages on np ranks (doc/howto_manufacturing.md, "Several ranks"): one
-# rank across the thickness, and in the plane the grid of least cut area among those that keep
-# every stitching point in the middle half of its subdomain in x and in y, so that no subdomain
-# boundary runs through the needle holes, the yarn and the cracks, where the contacts crowd;
-# "* * 1" (LAMMPS's choice in the plane) where no grid does
-proc_grid() {    # np needles-file
-  awk -v np="$1" '
-    $1 == "#" && $2 == "box" { xlo = $3; xhi = $4; ylo = $5; yhi = $6; next }
-    /^#/ || NF < 2 { next }
-    { n++; nx[n] = $1; ny[n] = $2 }
-    function centred(p, lo, hi, c,   w, i, f) {    # each c in the middle half of its slab
-      if (p == 1) return 1
-      w = (hi - lo) / p
-      for (i = 1; i <= n; i++) { f = (c[i] - lo) / w; f -= int(f); if (f < 0.25 || f > 0.75) return 0 }
-      return 1
-    }
-    END {
-      best = -1
-      for (px = 1; px <= np; px++) {
-        if (np % px) continue
-        py = np / px
-        if (!centred(px, xlo, xhi, nx) || !centred(py, ylo, yhi, ny)) continue
-        area = (px > 1 ? px * (yhi - ylo) : 0) + (py > 1 ? py * (xhi - xlo) : 0)
-        if (best < 0 || area < best) { best = area; grid = px " " py " 1" }
-      }
-      print (n == 0 || best < 0 ? "* * 1" : grid)
-    }' "$2"
-}
-
 # progress of a running stage from its log: the stage prints "STAGE_PLAN first F steps N"
 # before its runs, thermo lines carry the step
 progress() {
@@ -93,7 +64,7 @@ run_stage() {    # fab index name
   [ -t 1 ] && tty=1
   local extra="NCF_ARGS_$name"
   # shellcheck disable=SC2086  (word splitting of the extra arguments is wanted)
-  run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" "${pdyn_arg[@]}" "${procs_arg[@]}" \
+  run_lmp -in "$here/in.$name" -var prefix "$fab" -var here "$here" "${pdyn_arg[@]}" \
     ${!extra:-} ${NCF_LMP_ARGS:-} -log "$log" -screen none &
   pid=$!
   local last_print=$SECONDS
@@ -135,14 +106,7 @@ for fab in "${fabrics[@]}"; do
     [ -n "${NCF_RVE:-}" ] && args+=(-rve ${NCF_RVE})
     ncf-gen "$card" "${args[@]}"
   fi
-  procs_arg=() grid=""
-  if [ "$np" -gt 1 ]; then
-    [ -f "$name.needles" ] || { echo "run.sh: no $out/$name.needles for the processor grid"; exit 1; }
-    grid=$(proc_grid "$np" "$name.needles")
-    procs_arg=(-var procs "$grid")
-    grid=", processor grid $grid"
-  fi
-  echo "[manufacturing] $name: $(grep 'total atoms' "$name.summary" | awk '{print $4}' | tr -d ,) nodes with the yarn, $np rank(s)$grid, stages $first-$last"
+  echo "[manufacturing] $name: $(grep 'total atoms' "$name.summary" | awk '{print $4}' | tr -d ,) nodes with the yarn, $np rank(s), stages $first-$last"
   for k in $(seq "$first" "$last"); do
     run_stage "$name" "$k" "${stages_all[k - 1]}"
   done
