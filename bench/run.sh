@@ -43,7 +43,9 @@ ncf() { lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var 
 for r in $(seq "$reps"); do
   ncf 0.3 ncf1.$r.log
   lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$gsteps" -log gran1.$r.log -screen none
-  "${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -log ncf2.$r.log -screen none
+  for b in 0 1; do    # 2 ranks: LAMMPS's even split of the box, then cut by the work estimate
+    "${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -var balance $b -log ncf2$([ $b = 1 ] && echo b).$r.log -screen none
+  done
   ncf 0.0 ncf1mu0.$r.log
   # the same configuration every step, with and without friction (the saving of mu = 0 alone)
   ncf 0.3 frozen.$r.log 1
@@ -53,32 +55,32 @@ for r in $(seq "$reps"); do
   # the machine's own ceiling for 2 ranks: two independent 1-rank runs side by side, one per core
   # (shared caches, memory bandwidth and clock make each slower than a run alone; no MPI at all)
   ncf 0.3 twinA.$r.log & ncf 0.3 twinB.$r.log; wait
-  r1=$(loop ncf1.$r.log) r2=$(loop ncf2.$r.log) rg=$(loop gran1.$r.log) gn=$(grains_of gran1.$r.log)
+  r1=$(loop ncf1.$r.log) r2=$(loop ncf2.$r.log) r2b=$(loop ncf2b.$r.log) rg=$(loop gran1.$r.log) gn=$(grains_of gran1.$r.log)
   ta=$(loop twinA.$r.log) tb=$(loop twinB.$r.log)
-  python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2:.2f}; two 1-rank runs side by side take {max($ta, $tb) / $r1:.2f} x as long as one alone, machine ceiling {2 * $r1 / max($ta, $tb):.2f}')"
+  python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2b:.2f} balanced by the work estimate, {$r1 / $r2:.2f} even split; two 1-rank runs side by side take {max($ta, $tb) / $r1:.2f} x as long as one alone, machine ceiling {2 * $r1 / max($ta, $tb):.2f}')"
 done
 # the fastest repetition of each kind
 fastest() { for f in "$@"; do echo "$(loop "$f") $f"; done | sort -g | head -1 | cut -d' ' -f2; }
-f1=$(fastest ncf1.*.log); f2=$(fastest ncf2.*.log); f0=$(fastest ncf1mu0.*.log); fg=$(fastest gran1.*.log)
+f1=$(fastest ncf1.*.log); f2=$(fastest ncf2.*.log); f2b=$(fastest ncf2b.*.log); f0=$(fastest ncf1mu0.*.log); fg=$(fastest gran1.*.log)
 fz=$(fastest frozen.*.log); fz0=$(fastest frozenmu0.*.log); fo=$(fastest oneway.*.log)
 # (the side-by-side pair timed by its slower run, the pair of the fastest such repetition)
 ftw=$(for r in $(seq "$reps"); do echo "$(printf '%s\n%s\n' "$(loop twinA.$r.log)" "$(loop twinB.$r.log)" | sort -g | tail -1) $r"; done | sort -g | head -1 | cut -d' ' -f2)
 ttw=$(printf '%s\n%s\n' "$(loop twinA.$ftw.log)" "$(loop twinB.$ftw.log)" | sort -g | tail -1)
 grains=$(grains_of "$fg")
 
-t1=$(loop "$f1"); t2=$(loop "$f2"); t0=$(loop "$f0"); tg=$(loop "$fg")
+t1=$(loop "$f1"); t2=$(loop "$f2"); t2b=$(loop "$f2b"); t0=$(loop "$f0"); tg=$(loop "$fg")
 p1=$(pairt "$f1"); p0=$(pairt "$f0"); pg=$(pairt "$fg")
 tz=$(loop "$fz"); tz0=$(loop "$fz0"); pz=$(pairt "$fz"); pz0=$(pairt "$fz0"); to=$(loop "$fo")
 c_ncf=$(contacts "$f1" 4); c_gran=$(contacts "$fg" 3)
 builds() { awk '/^Neighbor list builds/{n=$NF} END{print n}' "$1"; }
 # (without friction the mat relaxed with friction slides a little: a few builds in the mu = 0 run)
 echo "list builds in the timed steps: ncf/contact $(builds "$f1") (2 ranks $(builds "$f2"), mu = 0 $(builds "$f0")), gran/hooke/history $(builds "$fg")"
-python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" <<'PY'
+python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" "$t2b" <<'PY'
 import sys
 nodes, grains, steps, gsteps = map(int, sys.argv[1:5])
 t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[5:12])
 c_ncf, c_gran = float(sys.argv[12]), float(sys.argv[13]) / 2.0   # contact/atom counts each contact twice
-tz, tz0, pz, pz0, to, ttw = map(float, sys.argv[14:20])
+tz, tz0, pz, pz0, to, ttw, t2b = map(float, sys.argv[14:21])
 per = lambda t, n, k=steps: t / (n * k) * 1e6
 print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
 print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
@@ -88,10 +90,11 @@ print(f"mu = 0 (no history stored or communicated), same configuration every ste
       f"whole step {100 * (1 - tz0 / tz):.1f} % cheaper; in the moving mat, which slides without friction: "
       f"whole step {100 * (1 - t0 / t1):.1f} % cheaper")
 ratio = per(t1, nodes) / per(tg, grains, gsteps)
-print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2:.2f}")
+print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2b:.2f} "
+      f"(sub-domains balanced by the work estimate; {t1 / t2:.2f} with the even split)")
 # what 2 cores of this machine give at best: two independent 1-rank runs at once (no MPI)
 ceil = 2.0 * t1 / ttw
-print(f"machine ceiling (two 1-rank runs side by side): {ceil:.2f}; the 2-rank run reaches {100 * (t1 / t2) / ceil:.0f} % of it")
+print(f"machine ceiling (two 1-rank runs side by side): {ceil:.2f}; the 2-rank run reaches {100 * (t1 / t2b) / ceil:.0f} % of it")
 print(f"one-way contact law (law oneway): cost ratio {per(to, nodes) / per(tg, grains, gsteps):.2f}, "
       f"{100 * (1 - to / t1):.1f} % cheaper than the symmetric law")
 PY

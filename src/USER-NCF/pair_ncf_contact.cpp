@@ -68,6 +68,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lmax_user = 0.0;
   maxcontacts = 24;
   fatom_every = 0;
+  work_flag = 0;
   dtcheck = 2;
   oneway = 0;
   dt_critical = 0.0;
@@ -78,7 +79,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   lmax_used = 0.0;
   reach_max = diam_max = 0.0;
   use_history = use_velocity = false;
-  idx_cnb = idx_fc = -1;
+  idx_cnb = idx_fc = idx_work = -1;
   fhist = nullptr;
   comm_sized = 0;
   comm_mode = COMM_HIST;
@@ -187,7 +188,7 @@ void PairNCFContact::allocate()
 
 /* ----------------------------------------------------------------------
    pair_style ncf/contact [ramp f] [core kappa] [endcap f] [lmax L] [maxcontacts N] [fatom yes|no|N]
-                          [dtcheck error|warn|no] [law symmetric|oneway]
+                          [dtcheck error|warn|no] [law symmetric|oneway] [work yes|no]
 ------------------------------------------------------------------------- */
 
 void PairNCFContact::settings(int narg, char **arg)
@@ -243,16 +244,45 @@ void PairNCFContact::settings(int narg, char **arg)
         oneway = 1;
       else
         error->all(FLERR, "pair_style ncf/contact: law {} is not one of symmetric, oneway", val);
+    } else if (key == "work") {
+      work_flag = NCF_LMP::logical(lmp, W, key, val) ? 1 : 0;
     } else {
       error->all(FLERR, "pair_style ncf/contact: unknown keyword {}", key);
     }
     iarg += 2;
   }
-  // the per-atom contact force exists from here on, so that a dump or variable defined before the
-  // first run can name d_ncf_fcontact
-  if (fatom_every && domain->box_exist && !modify->get_fix_by_id(FORCE_ID))
-    modify->add_fix(
-        fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
+  // the per-atom contact force and work estimate exist from here on, so that a dump, variable or
+  // fix balance defined before the first run can name d_ncf_fcontact and d_ncf_work
+  if (domain->box_exist) create_peratom_outputs();
+}
+
+// the per-atom stores of the outputs asked for: d_ncf_fcontact (fatom), d_ncf_work (work)
+void PairNCFContact::create_peratom_outputs()
+{
+  const struct {
+    bool on;
+    const char *id, *name;
+    int &idx;
+  } outs[] = {{fatom_every != 0, FORCE_ID, "ncf_fcontact", idx_fc},
+              {work_flag != 0, WORK_ID, "ncf_work", idx_work}};
+  for (const auto &o : outs) {
+    o.idx = -1;
+    if (!o.on) continue;
+    if (!modify->get_fix_by_id(o.id))
+      modify->add_fix(fmt::format("{} all property/atom d_{} ghost no writedata no", o.id, o.name));
+    int flag, cols;
+    o.idx = atom->find_custom(o.name, flag, cols);
+    if (o.idx < 0 || flag != 1 || cols != 0)
+      error->all(FLERR, "pair ncf/contact: d_{} of fix {} is malformed", o.name, o.id);
+  }
+  // nodes without an estimate yet (0: the store was just created, or the atoms were added since
+  // the last list build) weigh as a node without contacts, so that a fix balance before the first
+  // build sees valid weights (> 0)
+  if (idx_work >= 0) {
+    double *w = atom->dvector[idx_work];
+    for (int i = 0; i < atom->nlocal; i++)
+      if (!(w[i] >= 1.0)) w[i] = 1.0;
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -351,15 +381,7 @@ void PairNCFContact::create_stores()
 
   fhist = nullptr;
   if (use_history) attach_history_store();
-  idx_fc = -1;
-  if (fatom_every) {
-    if (!modify->get_fix_by_id(FORCE_ID))
-      modify->add_fix(
-          fmt::format("{} all property/atom d_ncf_fcontact ghost no writedata no", FORCE_ID));
-    idx_fc = atom->find_custom("ncf_fcontact", flag, cols);
-    if (idx_fc < 0 || flag != 1 || cols != 0)
-      error->all(FLERR, "pair ncf/contact: d_ncf_fcontact of fix {} is malformed", FORCE_ID);
-  }
+  create_peratom_outputs();
 }
 
 // chain neighbours (tags) of the owned atoms, from the 1-2 special list
@@ -693,8 +715,9 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&fatom_every, sizeof(int), 1, fp);
   // (the law packed into the dtcheck word, so that restart files keep the layout of earlier
   // versions; theirs read back with the default, symmetric law; bit 16: the communication cutoff
-  // the user gave follows the other settings)
-  const int dtlaw = dtcheck + 8 * oneway + 16;
+  // the user gave follows the other settings;
+  // bit 32: the work estimate)
+  const int dtlaw = dtcheck + 8 * oneway + 16 + 32 * work_flag;
   fwrite(&dtlaw, sizeof(int), 1, fp);
   fwrite(&core, sizeof(double), 1, fp);
   fwrite(&endcap_frac, sizeof(double), 1, fp);
@@ -719,6 +742,7 @@ void PairNCFContact::read_restart_settings(FILE *fp)
   MPI_Bcast(&dtcheck, 1, MPI_INT, 0, world);
   const bool has_ghost = dtcheck & 16;
   oneway = (dtcheck / 8) & 1;
+  work_flag = (dtcheck / 32) & 1;
   dtcheck %= 8;
   MPI_Bcast(&core, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&endcap_frac, 1, MPI_DOUBLE, 0, world);

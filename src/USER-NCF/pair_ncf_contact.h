@@ -27,6 +27,14 @@ class PairNCFContact : public Pair {
   // IDs of the fix property/atom stores created by the style
   static constexpr const char *TOPO_ID = "NCF_CONTACT_TOPO";    // chain neighbours (ghost yes)
   static constexpr const char *FORCE_ID = "NCF_CONTACT_F";      // per-atom |contact force|
+  static constexpr const char *WORK_ID = "NCF_CONTACT_WORK";    // per-atom work estimate
+  // the work estimate d_ncf_work of a node (keyword work), in units of a node without contacts
+  // (its bonds, integration and ghost copies): 1 + WORK_NEAR per pair list entry in reach at the
+  // build (it goes through the law) + WORK_FAR per other entry (bound tests only) + WORK_CAP per
+  // node cap (instruction counts on the compacted bench mat, doc/pair_ncf_contact.md)
+  static constexpr double WORK_NEAR = 3.3;
+  static constexpr double WORK_FAR = 0.27;
+  static constexpr double WORK_CAP = 0.2;
   // the fix property/atom that held the friction history in restart files of earlier versions
   static constexpr const char *OLD_HIST_ID = "NCF_CONTACT_HIST";
 
@@ -64,6 +72,7 @@ class PairNCFContact : public Pair {
   double lmax_user;      // longest segment given by the user (0 = from the data at init)
   int maxcontacts;       // history slots per node at the start (the store grows beyond)
   int fatom_every;       // per-node contact force magnitude every N steps (0: none)
+  int work_flag;         // 1: the per-node work estimate d_ncf_work, set at every list build
   int dtcheck;           // 2 error, 1 warn, 0 no check of the time step against dt_critical
   int oneway;            // 1: the one-way law (segment A = lower key against B; caps at full
                          // weight), 0: the symmetric law (NCF::chain_contact; default)
@@ -84,7 +93,7 @@ class PairNCFContact : public Pair {
   double diam_max;      // largest diameter (of a type)
   bool use_history;     // any mu > 0: history stored and communicated
   bool use_velocity;    // friction or damping: ghost velocities needed
-  int idx_cnb, idx_fc;
+  int idx_cnb, idx_fc, idx_work;
   class FixNCFContactHistory *fhist;    // the per-atom store of the friction history (mu > 0)
   int comm_sized;    // the comm_forward that LAMMPS sized its buffers for (at init)
   enum { COMM_HIST, COMM_FORCE };
@@ -196,6 +205,7 @@ class PairNCFContact : public Pair {
   void load_history();
   void store_history(int);
   void create_stores();
+  void create_peratom_outputs();
   void create_history_fix();
   void attach_history_store();
   void import_old_history();

@@ -427,8 +427,10 @@ void PairNCFContact::build_lists()
   // lists come out in that order, so that the positions, forces and history rows of a step are
   // visited nearly in memory order (store_history relies on it)
   pfirst.resize(nlocal + 1);
+  double *work_est = idx_work >= 0 ? atom->dvector[idx_work] : nullptr;
   for (int ao = 0; ao < nlocal; ao++) {
     pfirst[ao] = (int) plist.size();
+    const std::size_t cfirst = clist.size();
     for (int sa = 0; sa < 2; sa++) {
       const int ia = segp[2 * ao + sa];
       if (ia < 0) continue;
@@ -497,6 +499,14 @@ void PairNCFContact::build_lists()
           clist.push_back({ao, ia, kp, k, kq, tpk, std::sqrt(dist2) - tpar[tpk].dc - gap_slack});
         }
       }
+    }
+    // the node's share of this rank's work until the next build (fix balance ... weight var)
+    if (work_est) {
+      int nnear = 0;
+      for (std::size_t e = pfirst[ao]; e < plist.size(); e++) nnear += plist[e].reach <= 0.0f;
+      const int nfar = (int) (plist.size() - pfirst[ao]) - nnear;
+      work_est[ao] =
+          1.0 + WORK_NEAR * nnear + WORK_FAR * nfar + WORK_CAP * (double) (clist.size() - cfirst);
     }
   }
   pfirst[nlocal] = (int) plist.size();

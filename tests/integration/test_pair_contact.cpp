@@ -676,6 +676,88 @@ TEST(PairContact, PerAtomContactForceForDumps)
   }
 }
 
+// work yes: d_ncf_work, the node's share of the work, set at every list build: 1 for a node that
+// owns no list entry, 1 + WORK_NEAR per owned entry in reach (through the law) + WORK_FAR per
+// other entry + WORK_CAP per node cap. Crossing chains far apart, touching, then apart again
+// (within the skin: listed, not in reach); kept through a restart; absent with work no.
+TEST(PairContact, WorkEstimatePerNodeForBalancing)
+{
+  using LAMMPS_NS::PairNCFContact;
+  auto dir = scratch_dir("contact_work");
+  auto work = [](Lammps &l) {
+    LAMMPS_NS::Atom *atom = l.lmp->atom;
+    int flag = -1, cols = -1;
+    const int idx = atom->find_custom("ncf_work", flag, cols);
+    std::vector<double> w;
+    if (idx < 0) return w;
+    w.assign(atom->natoms, -1.0);
+    for (int i = 0; i < atom->nlocal; i++) w[atom->tag[i] - 1] = atom->dvector[idx][i];
+    return w;
+  };
+  auto sum_extra = [](const std::vector<double> &w) {
+    double s = 0.0;
+    for (double v : w) s += v - 1.0;
+    return s;
+  };
+  auto define = [&](Lammps &l, double gap, const std::string &style) {
+    l.cmds(setup(write_data(dir + "/w.data", crossed(gap), Box(), NODE_MASS), "f f f",
+                 "pair_coeff * * kn 1e8 diameter 69e-6", style));
+    l.cmd("run 0");
+  };
+  std::vector<double> apart, touching, lifted;
+  {
+    SCOPED_TRACE("far apart");
+    Lammps l;
+    define(l, 20 * DIAM, "pair_style ncf/contact work yes");
+    apart = work(l);
+    ASSERT_EQ(apart.size(), 22u);    // two chains of 11 nodes
+    // (segments of one chain two apart are listed too, out of reach)
+    for (double v : apart) {
+      EXPECT_GE(v, 1.0);
+      EXPECT_LT(v, 1.0 + PairNCFContact::WORK_NEAR) << "no entry in reach";
+    }
+  }
+  {
+    Lammps l;
+    define(l, 0.9 * DIAM, "pair_style ncf/contact work yes");
+    const double contacts = l.value("c_pc[1]");
+    ASSERT_GT(contacts, 0.0);
+    touching = work(l);
+    int busy = 0;
+    for (double v : touching) busy += v >= 1.0 + PairNCFContact::WORK_NEAR;
+    EXPECT_GE(busy, 1) << "a node owns an entry in contact";
+    // every pair in contact is an entry in reach, counted once, on its owner node
+    EXPECT_GE(sum_extra(touching) - sum_extra(apart),
+              contacts * PairNCFContact::WORK_NEAR * (1.0 - 1e-12));
+    // the upper chain lifted to 1.15 D (out of reach, most entries still listed within the
+    // skin): the next build counts those at WORK_FAR
+    l.cmd("group upper molecule 2");
+    l.cmd(fmt::format("displace_atoms upper move 0 0 {}", 0.25 * DIAM));
+    l.cmd("run 0");
+    EXPECT_EQ(l.value("c_pc[1]"), 0.0);
+    lifted = work(l);
+    EXPECT_GT(sum_extra(lifted), sum_extra(apart)) << "the entries within the skin are listed";
+    // (and a few entries of the touching state are no longer listed at all)
+    EXPECT_GE(sum_extra(touching) - sum_extra(lifted),
+              contacts * (PairNCFContact::WORK_NEAR - PairNCFContact::WORK_FAR) * (1.0 - 1e-12));
+    l.cmd("write_restart " + dir + "/w.restart");
+  }
+  {
+    // through a restart: the keyword is kept, the estimate set again at the first build
+    Lammps r;
+    r.cmd("read_restart " + dir + "/w.restart");
+    r.cmd("bond_coeff 1 modulus 120e9 diameter 69e-6");
+    r.cmd("comm_modify vel yes");
+    r.cmd("neighbor 2e-5 bin");
+    r.cmd("run 0");
+    EXPECT_EQ(work(r), lifted);
+  }
+  // work no (the default): no per-node estimate
+  Lammps n;
+  define(n, 0.9 * DIAM, "pair_style ncf/contact");
+  EXPECT_TRUE(work(n).empty());
+}
+
 // fatom N: the per-node contact force is computed on every N-th step, at the setup and on the last
 // step of a run, and kept as it was on the steps between (which skip its accumulation and reverse
 // communication); the values it has are those of fatom yes on the same step. A crossing pressed

@@ -2,11 +2,13 @@
 // a 50-chain mat compacted by a moving wall for 2000 steps ends in the same positions to 1e-10
 // (relative to the box), with the contacts of the serial brute-force reference on every rank count; a run restarted in the middle on another number of ranks too, and a run
 // whose sub-domains fix balance moves every 100 steps (the friction history migrates with the
-// atoms through the per-atom rows that fix ncf/contact/history writes before they move).
+// atoms through the per-atom rows that fix ncf/contact/history writes before they move), also
+// when fix balance weighs the atoms by the style's work estimate (work yes, d_ncf_work).
 
 #include "mpi_layered_mat.h"
 #include "ncf_lammps_test.h"
 
+#include "atom.h"
 #include "comm.h"
 #include "lammps.h"
 
@@ -188,5 +190,49 @@ TEST(PairContactRanks, BalancingMovesTheHistoryWithTheAtoms)
     EXPECT_LT(rel_diff(straight, balanced), 1e-10);
     printf("[ pair ncf/contact ] 4 balanced ranks vs 1 rank: max |dx| / box %.3g\n",
            rel_diff(straight, balanced));
+  }
+}
+
+// work yes: fix balance weighing every node by d_ncf_work. The ranks' shares of the estimated work
+// end closer to equal than with every node weighing the same (the mat's contacts are uneven: more
+// of them near the lower plate), and the trajectory is that of one rank.
+TEST(PairContactRanks, BalancingByTheWorkEstimate)
+{
+  ASSERT_GE(world_size(), 4);
+  scene_data();
+  double imbalance[2] = {0.0, 0.0};    // largest rank's share of the work / the mean, at the end
+  auto run = [&](int weighted) {
+    return [&imbalance, weighted](MPI_Comm comm) {
+      Lammps l(comm);
+      define(l);
+      l.cmd("pair_style ncf/contact work yes");
+      l.cmd("pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6");
+      l.cmd("variable w atom d_ncf_work");
+      l.cmd(std::string("fix bal all balance 100 1.0 shift xy 10 1.0") +
+            (weighted ? " weight var w" : ""));
+      l.cmds(PRESS);
+      l.cmd("run 2000");
+      // (the estimate of the last list build, the cuts of the last balancing before it)
+      LAMMPS_NS::Atom *atom = l.lmp->atom;
+      int flag = -1, cols = -1;
+      const int idx = atom->find_custom("ncf_work", flag, cols);
+      double mine = 0.0, most = 0.0, all = 0.0;
+      for (int i = 0; i < atom->nlocal; i++) mine += atom->dvector[idx][i];
+      MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, comm);
+      MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, comm);
+      imbalance[weighted] = most / (all / l.lmp->comm->nprocs);
+      return l.positions();
+    };
+  };
+  auto straight = positions_on_ranks(1, run(0));
+  auto by_nodes = positions_on_ranks(4, run(0));
+  auto by_work = positions_on_ranks(4, run(1));
+  if (world_rank() == 0) {
+    EXPECT_LT(rel_diff(straight, by_work), 1e-10);
+    EXPECT_LT(rel_diff(straight, by_nodes), 1e-10);
+    EXPECT_LT(imbalance[1], imbalance[0]) << "weighing by the work estimate balances it better";
+    printf("[ pair ncf/contact ] 4 ranks balanced by d_ncf_work vs 1 rank: max |dx| / box %.3g; "
+           "largest share of the estimated work / mean: %.4f by nodes, %.4f by d_ncf_work\n",
+           rel_diff(straight, by_work), imbalance[0], imbalance[1]);
   }
 }
