@@ -231,6 +231,12 @@ mut("history-takeover", "pair_ncf_contact_history.cpp",
 mut("history-defer", "pair_ncf_contact_history.cpp", "if (m >= atom->nlocal && local_only) return false;",
     "if (false && local_only) return false;", CONTACT,
     "take-over from a ghost's row not deferred until the rows are communicated")
+mut("history-rows-needed", "pair_ncf_contact_history.cpp",
+    "if (j >= 0 && j != nodes[k ^ 1]) mark_lower(nodes[k], j);",
+    "if (j >= 0 && j != nodes[k ^ 1] && k >= 2) mark_lower(nodes[k], j);", CONTACT,
+    "history rows of the segments next to A not flagged for the take-overs: not communicated")
+mut("history-rows-owner", "pair_ncf_contact_history.cpp", "  comm->reverse_comm(this, 1);\n", "",
+    CONTACT, "the flags of the history rows a take-over needs not summed onto their owners")
 mut("history-exchange", "fix_ncf_contact_history.cpp",
     "  if (PairNCFContact *p = pair()) p->sync_history();\n", "", CONTACT,
     "friction history not written to the per-atom store before atoms migrate")

@@ -84,6 +84,7 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   comm_sized = 0;
   comm_mode = COMM_HIST;
   lists_valid = false;
+  hneed_valid = false;
   lists_ncalls = -1;
   lists_nlocal = lists_nall = -1;
   lseg_build = 0.0;
@@ -595,7 +596,9 @@ void PairNCFContact::init_style()
                    "pair ncf/contact: no contact uses velocities (mu = 0 and damp = 0): unless "
                    "another style needs them, 'comm_modify vel no' saves communicating those of "
                    "the ghost nodes\n");
-  comm_reverse = fatom_every ? 3 : 0;
+  // (the reverse communication carries the contact forces, fatom, or the flags of the history
+  // rows that take-overs need, one per atom)
+  comm_reverse = fatom_every ? 3 : (use_history ? 1 : 0);
 
   lists_valid = false;
   create_stores();

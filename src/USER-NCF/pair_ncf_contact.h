@@ -96,8 +96,14 @@ class PairNCFContact : public Pair {
   int idx_cnb, idx_fc, idx_work;
   class FixNCFContactHistory *fhist;    // the per-atom store of the friction history (mu > 0)
   int comm_sized;    // the comm_forward that LAMMPS sized its buffers for (at init)
-  enum { COMM_HIST, COMM_FORCE };
-  int comm_mode;    // what forward/reverse communication carries: history rows, contact forces
+  enum { COMM_HIST, COMM_FORCE, COMM_NEED };
+  int comm_mode;    // what forward/reverse communication carries: history rows, contact forces,
+                    // the flags of the rows that take-overs may read (hneed)
+  // per local+ghost atom: 1 if a take-over of this rank or another may read its history row
+  // (the rows of owned nodes so flagged and of their ghost copies are the only ones the history
+  // communication carries); valid while hneed_valid, set by exchange_row_needs
+  std::vector<double> hneed;
+  bool hneed_valid;
 
   // per-step work arrays
   std::vector<double> endext;    // per local+ghost atom: extension at a free chain end [m]
@@ -203,7 +209,7 @@ class PairNCFContact : public Pair {
   void allocate();
   void build_lists();
   void load_history();
-  void store_history(int);
+  void store_history(int, bool only_needed = false);
   void create_stores();
   void create_peratom_outputs();
   void create_history_fix();
@@ -217,6 +223,15 @@ class PairNCFContact : public Pair {
   const double *find_slip_entry(int m, tagint ohi, tagint blo, tagint bhi) const;
   bool inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
                     bool local_only) const;
+  // the neighbouring segment pairs a new contact (a0-a1, b0-b1) may take its slip over from, in
+  // the order they are tried: for each, the owner index of its history (-1: not on this rank)
+  // and the keys, owner segment M and other segment O; returns how many
+  struct TakeOver {
+    int m;
+    tagint mhi, olo, ohi;
+  };
+  int takeover_candidates(tagint a0, tagint a1, tagint b0, tagint b1, TakeOver *out) const;
+  void exchange_row_needs();
   void other_partner(tagint node, tagint not_this, tagint &out) const;
   // per-atom energy and virial (and the global virial without fdotr) of one contact and of the
   // mapping of a virtual node's force onto its free end and neighbour (pair_ncf_contact_compute)

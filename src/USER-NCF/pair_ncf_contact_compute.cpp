@@ -58,6 +58,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       nlocal != lists_nlocal || nall != lists_nall) {
     build_lists();
     lists_valid = true;
+    hneed_valid = false;
     lists_ncalls = neighbor->ncalls;
     lists_nlocal = nlocal;
     lists_nall = nall;
@@ -558,19 +559,23 @@ void PairNCFContact::compute(int eflag, int vflag)
   // rows of the previous step, not yet replaced) only in steps where some rank has one. The wait
   // for the other ranks in the reduction and this communication are timed as Comm, not as Pair:
   // the Pair time stays the work of this rank, which 'balance ... weight time' divides
+  // Only the rows that some take-over may read are written and sent (hneed); which ones is agreed
+  // between the ranks in the first such step after a list build (bit 2 of the reduction).
   if (use_history) {
-    int need = deferred.empty() ? 0 : 1, any = need;
+    int need = (deferred.empty() ? 0 : 1) | (hneed_valid ? 0 : 2), any = need;
     if (comm->nprocs > 1) {
       timer->stamp(Timer::PAIR);
-      MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_MAX, world);
+      MPI_Allreduce(&need, &any, 1, MPI_INT, MPI_BOR, world);
     }
-    if (any) {
+    if (any & 1) {
+      if (any & 2) exchange_row_needs();
       // the rows of the last step, sent to the ghosts
-      store_history(hlast);
+      store_history(hlast, true);
       comm_mode = COMM_HIST;
       if (comm_forward > comm_sized) {
         // the rows were widened in this run: LAMMPS's buffers were sized at init for the old
-        // width; forward_comm_array grows them (and sends the whole rows)
+        // width; forward_comm_array grows them (and sends the whole rows, of which again only
+        // those flagged in hneed are read)
         comm->forward_comm_array(comm_forward, fhist->rows());
         comm_sized = comm_forward;
       } else {
@@ -578,7 +583,7 @@ void PairNCFContact::compute(int eflag, int vflag)
       }
     }
     if (comm->nprocs > 1) timer->stamp(Timer::COMM);
-    if (any)
+    if (any & 1)
       for (const int e : deferred) pair_contact(e, false);
   }
 
@@ -817,6 +822,10 @@ void PairNCFContact::tally_virtual_end(int k, int j, double e, const double *u, 
 
 int PairNCFContact::pack_reverse_comm(int n, int first, double *buf)
 {
+  if (comm_mode == COMM_NEED) {
+    for (int k = 0; k < n; k++) buf[k] = hneed[first + k];
+    return n;
+  }
   int m = 0;
   for (int k = first; k < first + n; k++) {
     buf[m++] = fcon[3 * k];
@@ -828,6 +837,10 @@ int PairNCFContact::pack_reverse_comm(int n, int first, double *buf)
 
 void PairNCFContact::unpack_reverse_comm(int n, int *list, double *buf)
 {
+  if (comm_mode == COMM_NEED) {
+    for (int k = 0; k < n; k++) hneed[list[k]] += buf[k];
+    return;
+  }
   int m = 0;
   for (int k = 0; k < n; k++) {
     const int j = list[k];

@@ -64,13 +64,11 @@ const double *PairNCFContact::find_slip_entry(int m, tagint ohi, tagint blo, tag
   return nullptr;
 }
 
-// a new contact takes over the slip of a contact of a neighbouring segment pair (same chains,
-// one segment further along one of them), so that a contact point sliding over a node keeps its
-// history; only values of the previous step are read (the same on any number of ranks)
-// local_only: only rows of owned nodes are up to date (the ghost rows have not been communicated
-// this step); returns false, without a result, when a ghost's row would be needed
-bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
-                                  bool local_only) const
+// the neighbouring segment pairs of a new contact A-B (same chains, one segment further along one
+// of them), whose slip it takes over, so that a contact point sliding over a node keeps its
+// history: the pair's history is in the row of the lower node of its lower segment M
+int PairNCFContact::takeover_candidates(tagint a0, tagint a1, tagint b0, tagint b1,
+                                        TakeOver *out) const
 {
   const SegKey A{a0, a1}, B{b0, b1};
   SegKey cand[4][2];
@@ -84,17 +82,33 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
   if (p) cand[nc][0] = make_key(a0, p), cand[nc++][1] = B;
   other_partner(a1, a0, p);
   if (p) cand[nc][0] = make_key(a1, p), cand[nc++][1] = B;
+  int n = 0;
   for (int c = 0; c < nc; c++) {
     const SegKey &X = cand[c][0], &Y = cand[c][1];
     if (share_node(X, Y)) continue;
     const SegKey &M = key_less(X, Y) ? X : Y, &O = key_less(X, Y) ? Y : X;
-    const int m = atom->map(M.lo);
+    out[n++] = {atom->map(M.lo), M.hi, O.lo, O.hi};
+  }
+  return n;
+}
+
+// a new contact takes over the slip of the first neighbouring pair (takeover_candidates) that had
+// one; only values of the previous step are read (the same on any number of ranks)
+// local_only: only rows of owned nodes are up to date (the ghost rows have not been communicated
+// this step); returns false, without a result, when a ghost's row would be needed
+bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, double *slip,
+                                  bool local_only) const
+{
+  TakeOver cand[4];
+  const int nc = takeover_candidates(a0, a1, b0, b1, cand);
+  for (int c = 0; c < nc; c++) {
+    const int m = cand[c].m;
     if (m < 0) continue;
     if (m >= atom->nlocal && local_only) return false;
     // (the rows of ghosts are communicated for the deferred take-overs, the local rows not
     // written every step)
-    const double *s = m < atom->nlocal ? find_slip_entry(m, M.hi, O.lo, O.hi)
-                                       : find_slip_row(m, M.hi, O.lo, O.hi);
+    const double *s = m < atom->nlocal ? find_slip_entry(m, cand[c].mhi, cand[c].olo, cand[c].ohi)
+                                       : find_slip_row(m, cand[c].mhi, cand[c].olo, cand[c].ohi);
     if (s && (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0)) {
       slip[0] = s[0];
       slip[1] = s[1];
@@ -105,6 +119,40 @@ bool PairNCFContact::inherit_slip(tagint a0, tagint a1, tagint b0, tagint b1, do
   return true;
 }
 
+// The rows a take-over may read on some rank (hneed): each rank flags the ghosts whose rows the
+// take-overs of its list entries would read, the flags are summed onto the owners (reverse
+// communication) and sent back to every ghost copy (forward communication), so that the history
+// communication carries only those rows and the sender and every receiver agree on which.
+// Collective; after every list build, before the first history communication that follows.
+void PairNCFContact::exchange_row_needs()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
+  hneed.assign(nall, 0.0);
+  // a take-over reads the row of the lower node of A, of B or of a segment next to one of them
+  // along its chain (takeover_candidates): those nodes of every entry are flagged, through the
+  // chain neighbours of the build (nbr; any periodic image: all copies get the owner's flag)
+  auto mark_lower = [&](int i, int j) {
+    const int lo = tag[i] < tag[j] ? i : j;
+    if (lo >= nlocal) hneed[lo] = 1.0;
+  };
+  for (const PairCand &pc : plist) {
+    const int nodes[4] = {real_of(pc.a0), real_of(pc.a1), real_of(pc.b0), real_of(pc.b1)};
+    mark_lower(nodes[0], nodes[1]);
+    mark_lower(nodes[2], nodes[3]);
+    for (int k = 0; k < 4; k++)
+      for (int s = 0; s < 2; s++) {
+        int j = nbr[2 * nodes[k] + s];
+        // (a neighbour beyond the shell's edge: any image of it, as the take-over finds it)
+        if (j == -2) j = atom->map((tagint) atom->darray[idx_cnb][nodes[k]][s]);
+        if (j >= 0 && j != nodes[k ^ 1]) mark_lower(nodes[k], j);
+      }
+  }
+  comm_mode = COMM_NEED;
+  comm->reverse_comm(this, 1);
+  comm->forward_comm(this, 1);
+  hneed_valid = true;
+}
 /* ----------------------------------------------------------------------
    friction history: between two list builds it lives with the pair list entries, in two
    buffers (pslip, phas): one holds the slips of the last step, read by this step (also by the
@@ -140,7 +188,8 @@ void PairNCFContact::load_history()
 
 // the per-atom rows of the owned nodes from history buffer b (hlast: the last step's); collective
 // (the store is widened on all ranks when a node on one of them has more contacts than slots)
-void PairNCFContact::store_history(int b)
+// (only_needed: only the rows that take-overs on other ranks or of ghost images may read, hneed)
+void PairNCFContact::store_history(int b, bool only_needed)
 {
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
@@ -172,6 +221,7 @@ void PairNCFContact::store_history(int b)
   }
   double **hist = fhist->rows();
   for (int i = 0; i < nlocal; i++) {
+    if (only_needed && hneed[i] == 0.0) continue;
     double *row = hist[i];
     int n = 0;
     for (int e = pfirst[i]; e < pfirst[i + 1]; e++) {
@@ -201,10 +251,16 @@ void PairNCFContact::sync_history()
 int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
                                       int * /*pbc*/)
 {
-  // variable length: per atom the number of contacts, then 6 values per contact
+  if (comm_mode == COMM_NEED) {
+    for (int k = 0; k < n; k++) buf[k] = hneed[list[k]];
+    return n;
+  }
+  // variable length: per atom whose row a take-over may read (hneed, the same flag on the owner
+  // and every copy) the number of contacts, then 6 values per contact; nothing for the others
   double **hist = fhist->rows();
   int m = 0;
   for (int k = 0; k < n; k++) {
+    if (hneed[list[k]] == 0.0) continue;
     const double *row = hist[list[k]];
     const int len = 1 + 6 * (int) row[0];
     memcpy(buf + m, row, sizeof(double) * len);
@@ -215,9 +271,14 @@ int PairNCFContact::pack_forward_comm(int n, int *list, double *buf, int /*pbc_f
 
 void PairNCFContact::unpack_forward_comm(int n, int first, double *buf)
 {
+  if (comm_mode == COMM_NEED) {
+    for (int k = 0; k < n; k++) hneed[first + k] = buf[k];
+    return;
+  }
   double **hist = fhist->rows();
   int m = 0;
   for (int k = first; k < first + n; k++) {
+    if (hneed[k] == 0.0) continue;
     const int len = 1 + 6 * (int) buf[m];
     memcpy(hist[k], buf + m, sizeof(double) * len);
     m += len;
