@@ -75,12 +75,12 @@ c_ncf=$(contacts "$f1" 4); c_gran=$(contacts "$fg" 3)
 builds() { awk '/^Neighbor list builds/{n=$NF} END{print n}' "$1"; }
 # (without friction the mat relaxed with friction slides a little: a few builds in the mu = 0 run)
 echo "list builds in the timed steps: ncf/contact $(builds "$f1") (2 ranks $(builds "$f2"), mu = 0 $(builds "$f0")), gran/hooke/history $(builds "$fg")"
-python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" "$t2b" <<'PY'
+python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" "$t2b" "$(for r in $(seq "$reps"); do python3 -c "print($(loop ncf1.$r.log) / $(loop ncf2b.$r.log))"; done | sort -g | awk '{v[NR]=$1} END{print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2}')" <<'PY'
 import sys
 nodes, grains, steps, gsteps = map(int, sys.argv[1:5])
 t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[5:12])
 c_ncf, c_gran = float(sys.argv[12]), float(sys.argv[13]) / 2.0   # contact/atom counts each contact twice
-tz, tz0, pz, pz0, to, ttw, t2b = map(float, sys.argv[14:21])
+tz, tz0, pz, pz0, to, ttw, t2b, sp_med = map(float, sys.argv[14:22])
 per = lambda t, n, k=steps: t / (n * k) * 1e6
 print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
 print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
@@ -91,7 +91,8 @@ print(f"mu = 0 (no history stored or communicated), same configuration every ste
       f"whole step {100 * (1 - t0 / t1):.1f} % cheaper")
 ratio = per(t1, nodes) / per(tg, grains, gsteps)
 print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank speed-up: {t1 / t2b:.2f} "
-      f"(sub-domains balanced by the work estimate; {t1 / t2:.2f} with the even split)")
+      f"(sub-domains balanced by the work estimate; {t1 / t2:.2f} with the even split; median of the "
+      f"repetitions' own speed-ups {sp_med:.2f})")
 # what 2 cores of this machine give at best: two independent 1-rank runs at once (no MPI)
 ceil = 2.0 * t1 / ttw
 print(f"machine ceiling (two 1-rank runs side by side): {ceil:.2f}; the 2-rank run reaches {100 * (t1 / t2b) / ceil:.0f} % of it")
