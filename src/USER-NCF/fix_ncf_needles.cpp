@@ -19,6 +19,7 @@
 #include "domain.h"
 #include "error.h"
 #include "input.h"
+#include "neighbor.h"
 #include "update.h"
 #include "variable.h"
 
@@ -182,6 +183,8 @@ void FixNCFNeedles::update_tip()
 
 void FixNCFNeedles::setup(int vflag)
 {
+  // (types, groups or bonds may have changed between runs)
+  part_valid = false;
   post_force(vflag);
 }
 
@@ -229,6 +232,102 @@ void FixNCFNeedles::bin_needles()
   for (int k = 0; k < nn; k++) cell_needle[next[of[k]]++] = k;
 }
 
+// a cell index wrapped into [0, n) (the common case, already inside, without a division)
+static inline int wrap_cell(int c, int n)
+{
+  if (c >= 0 && c < n) return c;
+  c %= n;
+  return c < 0 ? c + n : c;
+}
+
+// the grid of the cells near a needle (near) for segments of half length up to half in the plane:
+// a segment with its midpoint in a cell can touch a needle only if the needle's axis lies within
+// half + radius + its contact radius of the midpoint, so a cell is flagged when a needle (or a
+// periodic image) lies within that distance, for the thickest chain, of the cell's rectangle.
+// Cells of about a quarter of that distance, at most 1024 per direction; along a direction that is
+// not periodic the midpoints beyond the box are counted to its edge cells (farther from any
+// needle than those)
+void FixNCFNeedles::grid_near(double half)
+{
+  const double reach = half + radius + 0.5 * dmax_chain;
+  const double lo[2] = {domain->boxlo[0], domain->boxlo[1]};
+  const double prd[2] = {domain->xprd, domain->yprd};
+  for (int d = 0; d < 2; d++) {
+    near_n[d] = std::max(1, std::min(1024, (int) (prd[d] / (0.25 * reach))));
+    near_lo[d] = lo[d];
+    near_size[d] = prd[d] / near_n[d];
+    near_inv[d] = 1.0 / near_size[d];
+  }
+  near.assign((size_t) near_n[0] * near_n[1], 0);
+  const bool periodic[2] = {domain->periodicity[0] != 0, domain->periodicity[1] != 0};
+  for (size_t k = 0; k < nx.size(); k++) {
+    const double xy[2] = {nx[k], ny[k]};
+    int c0[2], c1[2];
+    for (int d = 0; d < 2; d++) {
+      // (one cell more each side: the midpoints' cells are found by a multiplication)
+      c0[d] = (int) std::floor((xy[d] - reach - near_lo[d]) * near_inv[d]) - 1;
+      c1[d] = (int) std::floor((xy[d] + reach - near_lo[d]) * near_inv[d]) + 1;
+      if (!periodic[d] || c1[d] - c0[d] + 1 >= near_n[d]) {
+        c0[d] = periodic[d] ? 0 : std::max(0, c0[d]);
+        c1[d] = periodic[d] ? near_n[d] - 1 : std::min(near_n[d] - 1, c1[d]);
+      }
+    }
+    for (int cy = c0[1]; cy <= c1[1]; cy++)
+      for (int cx = c0[0]; cx <= c1[0]; cx++)
+        near[wrap_cell(cx, near_n[0]) + (size_t) near_n[0] * wrap_cell(cy, near_n[1])] = 1;
+  }
+  near_half = half;
+  near_box[0] = lo[0];
+  near_box[1] = lo[1];
+  near_box[2] = prd[0];
+  near_box[3] = prd[1];
+}
+
+// the bond partners of the owned nodes of the group with a chain diameter (closest images), once
+// per reneighbouring: their indices do not change between
+void FixNCFNeedles::find_partners()
+{
+  int *mask = atom->mask, *type = atom->type;
+  tagint **special = atom->special;
+  int **nspecial = atom->nspecial;
+  const int nlocal = atom->nlocal;
+  part_first.assign(nlocal + 1, 0);
+  part_j.clear();
+  int missing = 0;
+  for (int i = 0; i < nlocal; i++) {
+    part_first[i] = (int) part_j.size();
+    if (!(mask[i] & groupbit) || chain_d[type[i]] <= 0.0) continue;
+    for (int s = 0; s < nspecial[i][0]; s++) {
+      int j = atom->map(special[i][s]);
+      if (j < 0) {
+        missing++;
+        continue;
+      }
+      j = domain->closest_image(i, j);
+      part_j.push_back((mask[j] & groupbit) && chain_d[type[j]] > 0.0 ? j : -1);
+    }
+  }
+  part_first[nlocal] = (int) part_j.size();
+  if (missing)
+    error->one(FLERR, "fix ncf/needles: {} bond partner(s) of local nodes are missing", missing);
+  part_ncalls = neighbor->ncalls;
+  part_nlocal = nlocal;
+  part_nall = nlocal + atom->nghost;
+  part_valid = true;
+  // the near grid for the segments as long as the longest here now, with a margin for stretching
+  // (a longer segment later searches the needle cells itself)
+  double **x = atom->x;
+  double hmax = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int p = part_first[i]; p < part_first[i + 1]; p++) {
+      const int j = part_j[p];
+      if (j < 0) continue;
+      const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1];
+      hmax = std::max(hmax, 0.5 * std::sqrt(dx * dx + dy * dy));
+    }
+  grid_near(1.25 * hmax);
+}
+
 // contact of the segment a0-a1 (visited from its node i) with needle k at its closest image
 void FixNCFNeedles::needle_segment(int k, int i, const NCF::Vec3 &a0, const NCF::Vec3 &a1,
                                    double rc, double half, NCF::Needle &needle,
@@ -264,14 +363,13 @@ void FixNCFNeedles::post_force(int /*vflag*/)
   bin_needles();
   double **x = atom->x;
   int *mask = atom->mask, *type = atom->type;
-  tagint **special = atom->special;
   int **nspecial = atom->nspecial;
   const int nlocal = atom->nlocal;
   const int nn = (int) nx.size();
 
   std::vector<double> local(3 * nn + 3, 0.0);    // needle forces, energy, contacts, visits
   double emine = 0.0, penmine = 0.0;
-  int cmine = 0, missing = 0;
+  int cmine = 0;
   NCF::Needle needle;
   needle.zapex = ztip;
   needle.direction = direction;
@@ -292,32 +390,45 @@ void FixNCFNeedles::post_force(int /*vflag*/)
     }
   const bool reach = nhi >= zlo - margin_max && nlo <= zhi + margin_max;
   double visits = 0.0;
+  const double cone = 1.0 + tip / radius;    // (z margin of a segment per unit contact radius)
+  if (reach &&
+      (!part_valid || neighbor->ncalls != part_ncalls || nlocal != part_nlocal ||
+       nall != part_nall))
+    find_partners();
+  if (reach &&
+      (near_box[0] != domain->boxlo[0] || near_box[1] != domain->boxlo[1] ||
+       near_box[2] != domain->xprd || near_box[3] != domain->yprd))
+    grid_near(near_half);    // (the box changed between reneighbourings)
   for (int i = 0; reach && i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double di = chain_d[type[i]];
     if (di <= 0.0) continue;
-    for (int s = 0; s < nspecial[i][0]; s++) {
-      visits += 1.0;
-      int j = atom->map(special[i][s]);
-      if (j < 0) {
-        missing++;
-        continue;
-      }
-      j = domain->closest_image(i, j);
-      if (!(mask[j] & groupbit)) continue;
+    visits += nspecial[i][0];
+    for (int p = part_first[i]; p < part_first[i + 1]; p++) {
+      const int j = part_j[p];
+      if (j < 0) continue;
       const double dj = chain_d[type[j]];
-      if (dj <= 0.0) continue;
       // the same radius from both nodes: the mean of the two types' diameters, halved
       const double rc = 0.25 * (di + dj);
       const NCF::Vec3 a0{x[i][0], x[i][1], x[i][2]}, a1{x[j][0], x[j][1], x[j][2]};
       // the segment's extent in z, to skip needles whose body does not reach it
-      const double margin = rc + rc * tip / radius;
+      const double margin = rc * cone;
       const double zmin = std::min(a0.z, a1.z) - margin, zmax = std::max(a0.z, a1.z) + margin;
       if (nhi < zmin || nlo > zmax) continue;
       const double half = 0.5 * sqrt((a1.x - a0.x) * (a1.x - a0.x) + (a1.y - a0.y) * (a1.y - a0.y));
+      const double mid[2] = {0.5 * (a0.x + a1.x), 0.5 * (a0.y + a1.y)};
+      // most segments: no needle near the cell of the midpoint
+      if (half <= near_half) {
+        int c[2];
+        for (int d = 0; d < 2; d++) {
+          c[d] = (int) std::floor((mid[d] - near_lo[d]) * near_inv[d]);
+          c[d] = domain->periodicity[d] ? wrap_cell(c[d], near_n[d])
+                                        : std::max(0, std::min(near_n[d] - 1, c[d]));
+        }
+        if (!near[c[0] + (size_t) near_n[0] * c[1]]) continue;
+      }
       // the needles of the cells within reach of the segment's midpoint (each cell once)
       const double reach = half + radius + rc;
-      const double mid[2] = {0.5 * (a0.x + a1.x), 0.5 * (a0.y + a1.y)};
       int c0[2], c1[2];
       for (int dd = 0; dd < 2; dd++) {
         c0[dd] = 0;
@@ -329,8 +440,7 @@ void FixNCFNeedles::post_force(int /*vflag*/)
       }
       for (int cy = c0[1]; cy <= c1[1]; cy++)
         for (int cx = c0[0]; cx <= c1[0]; cx++) {
-          const int cell = ((cx % ncell[0]) + ncell[0]) % ncell[0] +
-              ncell[0] * (((cy % ncell[1]) + ncell[1]) % ncell[1]);
+          const int cell = wrap_cell(cx, ncell[0]) + ncell[0] * wrap_cell(cy, ncell[1]);
           for (int q = cell_first[cell]; q < cell_first[cell + 1]; q++) {
             const int k = cell_needle[q];
             needle_segment(k, i, a0, a1, rc, half, needle, local, emine, penmine, cmine);
@@ -338,8 +448,6 @@ void FixNCFNeedles::post_force(int /*vflag*/)
         }
     }
   }
-  if (missing)
-    error->one(FLERR, "fix ncf/needles: {} bond partner(s) of local nodes are missing", missing);
   local[3 * nn] = emine;
   local[3 * nn + 1] = cmine;
   local[3 * nn + 2] = visits;

@@ -64,6 +64,23 @@ class FixNCFNeedles : public Fix {
   int ncell[2] = {1, 1};
   double cell_lo[2] = {0.0, 0.0}, cell_size[2] = {1.0, 1.0}, cell_prd[2] = {0.0, 0.0};
   std::vector<int> cell_first, cell_needle;
+  // a finer grid in the plane, per cell 1 if a needle may touch a segment of half length (in the
+  // plane) up to near_half whose midpoint is in the cell; the segments whose midpoint is in a cell
+  // without one skip the needle search (most segments of a mat are far from every needle)
+  std::vector<char> near;
+  int near_n[2] = {1, 1};
+  double near_lo[2] = {0.0, 0.0}, near_size[2] = {1.0, 1.0}, near_inv[2] = {1.0, 1.0};
+  double near_half = -1.0;    // (< 0: no grid yet)
+  double near_box[4] = {0.0, 0.0, 0.0, 0.0};
+  void grid_near(double half);
+
+  // the bond partners of the owned nodes (closest images, -1 skipped), in the order of their
+  // special lists, kept between reneighbourings (the atom indices are stable then)
+  std::vector<int> part_first, part_j;
+  bigint part_ncalls = -1;
+  int part_nlocal = -1, part_nall = -1;
+  bool part_valid = false;
+  void find_partners();
 
   std::vector<int> imgtype;
   std::vector<double> imgbuf;
