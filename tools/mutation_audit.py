@@ -169,6 +169,12 @@ mut("needles-reaction-sign", "fix_ncf_needles.cpp", "local[3 * k + 1] -= c.f[0].
     "local[3 * k + 1] += c.f[0].y;", NEEDLE, "force on the needle (y) with the wrong sign")
 mut("needles-count", "fix_ncf_needles.cpp", "ncontact = (int) std::lround(all[3 * nn + 1] / 2.0);",
     "ncontact = (int) std::lround(all[3 * nn + 1]);", NEEDLE, "contacts counted from both nodes")
+mut("needles-near-reach", "fix_ncf_needles.cpp",
+    "const double reach = half + radius + 0.5 * dmax_chain;",
+    "const double reach = half + 0.5 * dmax_chain;", NEEDLE,
+    "the grid of the cells near a needle flags too few cells (needle radius left out)")
+mut("needles-partners-stale", "fix_ncf_needles.cpp", "neighbor->ncalls != part_ncalls ||",
+    "false ||", NEEDLE, "bond partners of the needle fix not looked up again after reneighbouring")
 mut("needle-profile-slope", "ncf_needle.cpp", "drho_du = (lower ? 1.0 : -1.0) * n.radius / n.tip * dphi;",
     "drho_du = n.radius / n.tip * dphi;", NEEDLE, "slope of the needle's far taper with the wrong sign")
 

@@ -169,6 +169,29 @@ TEST(FixNeedles, ManyNeedlesEachTheKernelForce)
   EXPECT_GE(touching, 12);
 }
 
+// segments much shorter than the needle is wide, as in a fabric (0.1 mm against 0.5 mm): the
+// segments whose midpoints lie within the needle's radius and more of its axis (the cells the
+// fix flags as near a needle) get the kernel's force, at several distances from the axis
+TEST(FixNeedles, ShortSegmentsAroundANeedleEachTheKernelForce)
+{
+  auto dir = scratch_dir("needles_short");
+  const int n = 40;
+  const double a = 1e-4;
+  for (double y0 : {0.05e-3, 0.2e-3, 0.27e-3, -0.27e-3}) {
+    SCOPED_TRACE(y0);
+    Lammps l;
+    load(l, write_chain(dir, n, a, y0));
+    l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {} at 2e-3 0 move -1e-4 0 "
+                      "length 1.5e-3 tip 1e-4",
+                      DN, KN, DC));
+    l.cmd("run 0");
+    const auto expect = kernel_force_on_needle(n, a, y0, 2e-3, 0.0, -1e-4, 1.5e-3, 1e-4);
+    ASSERT_GT(std::fabs(expect.y), 0.0) << "the chain touches the needle";
+    EXPECT_NEAR(l.value("f_nd[1][2]"), expect.y, 1e-9 * std::fabs(expect.y));
+    EXPECT_NEAR(l.value("f_nd[1][1]"), expect.x, 1e-9 * std::fabs(expect.y));
+  }
+}
+
 TEST(FixNeedles, PointUpMirrorsPointDown)
 {
   // a needle coming up from below (direction up) meets the chain as its mirror image coming down
