@@ -717,9 +717,8 @@ void PairNCFContact::write_restart_settings(FILE *fp)
   fwrite(&maxcontacts, sizeof(int), 1, fp);
   fwrite(&fatom_every, sizeof(int), 1, fp);
   // (the law packed into the dtcheck word, so that restart files keep the layout of earlier
-  // versions; theirs read back with the default, symmetric law; bit 16: the communication cutoff
-  // the user gave follows the other settings;
-  // bit 32: the work estimate)
+  // versions; theirs read back with the default, symmetric law and without the work estimate;
+  // bit 16: the communication cutoff the user gave follows the other settings; bit 32: work yes)
   const int dtlaw = dtcheck + 8 * oneway + 16 + 32 * work_flag;
   fwrite(&dtlaw, sizeof(int), 1, fp);
   fwrite(&core, sizeof(double), 1, fp);
