@@ -558,9 +558,9 @@ void PairNCFContact::compute(int eflag, int vflag)
   // the history rows of ghost nodes are needed only by deferred take-overs: communicated (the
   // rows of the previous step, not yet replaced) only in steps where some rank has one. The wait
   // for the other ranks in the reduction and this communication are timed as Comm, not as Pair:
-  // the Pair time stays the work of this rank, which 'balance ... weight time' divides
-  // Only the rows that some take-over may read are written and sent (hneed); which ones is agreed
-  // between the ranks in the first such step after a list build (bit 2 of the reduction).
+  // the Pair time stays the work of this rank, which 'balance ... weight time' divides. Only the
+  // rows that some take-over may read are written and sent (hneed); which ones, the ranks agree
+  // in the first such step after a list build (bit 2 of the reduction: some rank rebuilt).
   if (use_history) {
     int need = (deferred.empty() ? 0 : 1) | (hneed_valid ? 0 : 2), any = need;
     if (comm->nprocs > 1) {

@@ -153,6 +153,7 @@ void PairNCFContact::exchange_row_needs()
   comm->forward_comm(this, 1);
   hneed_valid = true;
 }
+
 /* ----------------------------------------------------------------------
    friction history: between two list builds it lives with the pair list entries, in two
    buffers (pslip, phas): one holds the slips of the last step, read by this step (also by the
