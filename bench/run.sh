@@ -41,23 +41,25 @@ reps=${NCF_BENCH_REPS:-5}
 gsteps=$((5 * steps))
 ncf() { lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu "$1" -var steps "$steps" -var frozen "${3:-0}" -var law "${4:-symmetric}" -log "$2" -screen none; }
 for r in $(seq "$reps"); do
+  # the speed-up and the machine's ceiling first, back to back, so that both see the same state of
+  # a machine whose speed changes within seconds
   ncf 0.3 ncf1.$r.log
-  lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$gsteps" -log gran1.$r.log -screen none
   for b in 0 1; do    # 2 ranks: LAMMPS's even split of the box, then cut by the work estimate
     "${mpirun[@]}" -np 2 lmp -in "$here/in.ncf" -var bench "$here" -var restart mat.restart -var mu 0.3 -var steps "$steps" -var balance $b -log ncf2$([ $b = 1 ] && echo b).$r.log -screen none
   done
+  # the machine's own ceiling for 2 ranks: two independent 1-rank runs side by side, one per core
+  # (shared caches, memory bandwidth and clock make each slower than a run alone; no MPI at all)
+  ncf 0.3 twinA.$r.log & ncf 0.3 twinB.$r.log; wait
+  lmp -in "$here/in.gran" -var nx "$side" -var ny "$side" -var nz "$nz" -var steps "$gsteps" -log gran1.$r.log -screen none
   ncf 0.0 ncf1mu0.$r.log
   # the same configuration every step, with and without friction (the saving of mu = 0 alone)
   ncf 0.3 frozen.$r.log 1
   ncf 0.0 frozenmu0.$r.log 1
   # the one-way contact law (pair_style ncf/contact law oneway)
   ncf 0.3 oneway.$r.log 0 oneway
-  # the machine's own ceiling for 2 ranks: two independent 1-rank runs side by side, one per core
-  # (shared caches, memory bandwidth and clock make each slower than a run alone; no MPI at all)
-  ncf 0.3 twinA.$r.log & ncf 0.3 twinB.$r.log; wait
   r1=$(loop ncf1.$r.log) r2=$(loop ncf2.$r.log) r2b=$(loop ncf2b.$r.log) rg=$(loop gran1.$r.log) gn=$(grains_of gran1.$r.log)
   ta=$(loop twinA.$r.log) tb=$(loop twinB.$r.log)
-  python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2b:.2f} balanced by the work estimate, {$r1 / $r2:.2f} even split; two 1-rank runs side by side take {max($ta, $tb) / $r1:.2f} x as long as one alone, machine ceiling {2 * $r1 / max($ta, $tb):.2f}')"
+  python3 -c "print(f'repetition $r: cost ratio {($r1 / $nodes / $steps) / ($rg / $gn / $gsteps):.2f}; 1->2 rank speed-up {$r1 / $r2b:.2f} balanced by the work estimate, {$r1 / $r2:.2f} even split; two 1-rank runs side by side take {max($ta, $tb) / $r1:.2f} x as long as one alone, machine ceiling {2 * $r1 / max($ta, $tb):.2f}, the balanced 2-rank run {100 * max($ta, $tb) / (2 * $r2b):.0f} % of it')"
 done
 # the fastest repetition of each kind
 fastest() { for f in "$@"; do echo "$(loop "$f") $f"; done | sort -g | head -1 | cut -d' ' -f2; }
@@ -75,12 +77,18 @@ c_ncf=$(contacts "$f1" 4); c_gran=$(contacts "$fg" 3)
 builds() { awk '/^Neighbor list builds/{n=$NF} END{print n}' "$1"; }
 # (without friction the mat relaxed with friction slides a little: a few builds in the mu = 0 run)
 echo "list builds in the timed steps: ncf/contact $(builds "$f1") (2 ranks $(builds "$f2"), mu = 0 $(builds "$f0")), gran/hooke/history $(builds "$fg")"
-python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" "$t2b" "$(for r in $(seq "$reps"); do python3 -c "print($(loop ncf1.$r.log) / $(loop ncf2b.$r.log))"; done | sort -g | awk '{v[NR]=$1} END{print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2}')" <<'PY'
+python3 - "$nodes" "$grains" "$steps" "$gsteps" "$t1" "$t2" "$t0" "$tg" "$p1" "$p0" "$pg" "$c_ncf" "$c_gran" "$tz" "$tz0" "$pz" "$pz0" "$to" "$ttw" "$t2b" "$(for r in $(seq "$reps"); do echo "$(loop ncf1.$r.log) $(loop ncf2b.$r.log) $(loop twinA.$r.log) $(loop twinB.$r.log)"; done | tr '\n' ';')" <<'PY'
 import sys
 nodes, grains, steps, gsteps = map(int, sys.argv[1:5])
 t1, t2, t0, tg, p1, p0, pg = map(float, sys.argv[5:12])
 c_ncf, c_gran = float(sys.argv[12]), float(sys.argv[13]) / 2.0   # contact/atom counts each contact twice
-tz, tz0, pz, pz0, to, ttw, t2b, sp_med = map(float, sys.argv[14:22])
+tz, tz0, pz, pz0, to, ttw, t2b = map(float, sys.argv[14:21])
+# per repetition: 1-rank, balanced 2-rank and the two side-by-side runs; the medians of each one's
+# own speed-up and of its share of its own ceiling
+reps = [list(map(float, r.split())) for r in sys.argv[21].split(';') if r.strip()]
+median = lambda v: sorted(v)[len(v) // 2] if len(v) % 2 else 0.5 * sum(sorted(v)[len(v) // 2 - 1:len(v) // 2 + 1])
+sp_med = median([a / b for a, b, _, _ in reps])
+share_med = median([max(ta, tb) / (2.0 * b) for _, b, ta, tb in reps])
 per = lambda t, n, k=steps: t / (n * k) * 1e6
 print(f"mat: {nodes} nodes, {c_ncf:.0f} contacting segment pairs ({c_ncf / nodes:.2f} per node) at the end")
 print(f"spheres: {grains} particles, {c_gran:.0f} contacts ({c_gran / grains:.2f} per particle)")
@@ -95,7 +103,8 @@ print(f"ncf/contact vs gran/hooke/history cost ratio: {ratio:.2f}; 1->2 rank spe
       f"repetitions' own speed-ups {sp_med:.2f})")
 # what 2 cores of this machine give at best: two independent 1-rank runs at once (no MPI)
 ceil = 2.0 * t1 / ttw
-print(f"machine ceiling (two 1-rank runs side by side): {ceil:.2f}; the 2-rank run reaches {100 * (t1 / t2b) / ceil:.0f} % of it")
+print(f"machine ceiling (two 1-rank runs side by side): {ceil:.2f}; the 2-rank run reaches {100 * (t1 / t2b) / ceil:.0f} % of it "
+      f"(median over the repetitions of each one's share of its own ceiling: {100 * share_med:.0f} %)")
 print(f"one-way contact law (law oneway): cost ratio {per(to, nodes) / per(tg, grains, gsteps):.2f}, "
       f"{100 * (1 - to / t1):.1f} % cheaper than the symmetric law")
 PY
