@@ -9,7 +9,7 @@
 #include "ncf_lammps_test.h"
 #include "ncf_scenes.h"
 
-#include "../../tools/ncf-gen/ncfgen_geom.h"
+#include "../../tools/ncf-gen/ncf_gen_geom.h"
 
 #include "lammps.h"
 

@@ -18,7 +18,7 @@
 // NCF_BAD_INPUT_SHOW=1 prints every case's message.
 
 #include "ncf_case_name.h"
-#include "ncfgen.h"
+#include "ncf_gen.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

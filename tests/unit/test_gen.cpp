@@ -1,8 +1,8 @@
-// Unit tests of the fabric generator ncf-gen (tools/ncf-gen, library ncfgen_core), no LAMMPS.
+// Unit tests of the fabric generator ncf-gen (tools/ncf-gen, library ncf_gen_core), no LAMMPS.
 // Numbers from the paper: Table 1 (fabrics), Table 3 (discretisation), Eq. 1 (t_L).
 
-#include "ncfgen.h"
-#include "ncfgen_geom.h"
+#include "ncf_gen.h"
+#include "ncf_gen_geom.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -542,7 +542,7 @@ TEST(GenYarn, PackingSetsTheContactDiameterNotTheAxialStiffnessOrMass)
 TEST(GenOutputs, SameSeedSameBytesOtherSeedOtherBytes)
 {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("ncfgen_seed_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("ncf_gen_seed_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string card = SRC + "/examples/gen-ncf45/ncf45.card";
   std::string err;
@@ -592,7 +592,7 @@ TEST(GenOutputs, ManufacturingParametersReachTheSettings)
 TEST(GenOutputs, MalformedCardsNameTheLineAndWriteNothing)
 {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("ncfgen_bad_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("ncf_gen_bad_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string good = card_text(layer(0, 150, 1, CT24) + STITCH_TRICOT);
@@ -802,7 +802,7 @@ TEST(GenQuality, StandardAndNoQualityKeyGiveTheSameFiles)
   // added, and (which must differ) with 'quality draft'; written from the same card path, since
   // the path is part of the files
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("ncfgen_quality_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("ncf_gen_quality_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   auto slurp = [](const fs::path &p) {

@@ -7,7 +7,7 @@
    (PREFIX defaults to the card's 'name' in the current folder) and prints the summary.
 ------------------------------------------------------------------------- */
 
-#include "ncfgen.h"
+#include "ncf_gen.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -1,9 +1,9 @@
 /* ----------------------------------------------------------------------
-   USER-NCF fabric generator: the fabric card and the lapping notation (see ncfgen.h and
+   USER-NCF fabric generator: the fabric card and the lapping notation (see ncf_gen.h and
    doc/ncf-gen.md). Every error names the card, the line, the key and the value.
 ------------------------------------------------------------------------- */
 
-#include "ncfgen.h"
+#include "ncf_gen.h"
 
 #include <cctype>
 #include <cerrno>

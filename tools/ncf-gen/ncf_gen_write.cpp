@@ -4,8 +4,8 @@
    so the files are exact and the same card and seed give the same bytes.
 ------------------------------------------------------------------------- */
 
-#include "ncfgen.h"
-#include "ncfgen_geom.h"
+#include "ncf_gen.h"
+#include "ncf_gen_geom.h"
 
 #include <sys/stat.h>
 #include <unistd.h>

@@ -3,8 +3,8 @@
    (paper sections 4.2, 4.4, 4.5; doc/ncf-gen.md).
 ------------------------------------------------------------------------- */
 
-#include "ncfgen.h"
-#include "ncfgen_geom.h"
+#include "ncf_gen.h"
+#include "ncf_gen_geom.h"
 
 #include "ncf_contact.h"
 
