@@ -26,6 +26,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "output.h"
 #include "update.h"
 
 #include "ncf_args_lammps.h"
@@ -43,10 +44,34 @@ using namespace FixConst;
 namespace {
 // face codes of the per-atom property (doc/ARCHITECTURE.md): 1 xlo, 2 xhi, 3 ylo, 4 yhi
 constexpr int FACE_XLO = 1, FACE_XHI = 2, FACE_YLO = 3, FACE_YHI = 4;
-constexpr int NVAL = 7;    // per group: predicted residual (3), current sum (3), sum w^2/m
+// per group: predicted residual (3), current sum (3), sum w^2/m, sum w r of the node holds
+constexpr int NVAL = 8;
 // first number of the restart data (where a restart file without the multipliers of the last
-// step held the node count)
+// step held the node count): -2 with the group multipliers, -3 also with the reference origin
+// and the multipliers of the node holds
 constexpr double RESTART_MARK = -2.0;
+constexpr double RESTART_MARK_NORMAL = -3.0;
+
+// The shape of the box of the next step: the current box advanced by the rates of fix deform (zero
+// without one), in whose metric a node's displacement of this step must have no normal part, so
+// that a hold stays exact under a tilt that grows while the node slides along its face.
+struct NextBox {
+  double prd[3], xy;
+};
+NextBox next_box(const Domain *domain, double dt)
+{
+  NextBox b;
+  for (int d = 0; d < 3; d++) b.prd[d] = domain->prd[d] + dt * domain->h_rate[d];
+  b.xy = domain->triclinic ? domain->xy + dt * domain->h_rate[5] : 0.0;
+  return b;
+}
+
+// the coupling a of a node hold on the faces of pair p (n = e_p + a e_u, ncf_pbc.h): the x faces of
+// a box tilted by xy lean along y
+double hold_coupling(int pair, const NextBox &b)
+{
+  return pair == 0 ? -b.xy / b.prd[1] : 0.0;
+}
 
 // in-plane deformation gradient F = h h_ref^-1 of the periodic box (x, y), identity in z
 void deformation(const double *h, const double *href, double F[2][2])
@@ -78,6 +103,7 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
   dynamic_group_allow = 0;
 
   pair_on[0] = pair_on[1] = 1;
+  for (int d = 0; d < 3; d++) loref[d] = domain->boxlo[d];
   faces_auto = 1;
   for (auto &p : user_cells) p[0] = p[1] = 0;
   for (auto &p : mesh_cells) p[0] = p[1] = 0;
@@ -97,6 +123,8 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
     take_state_of(from_id);
   else if (!tilted_at_definition)
     capture_reference();
+  if (normal_hold && comm->me == 0)
+    utils::logmesg(lmp, "fix ncf/pbc: normal hold: every end node kept on its face\n");
 }
 
 /* ----------------------------------------------------------------------
@@ -122,6 +150,8 @@ void FixNCFPBC::take_state_of(const std::string &other_id)
   ngroups = other->ngroups;
   group_pair = other->group_pair;
   std::copy(other->href, other->href + 6, href);
+  std::copy(other->loref, other->loref + 3, loref);
+  if (!normal_given) normal_hold = other->normal_hold;
   endface_name = other->endface_name;
   faces_auto = other->faces_auto;
   for (int p = 0; p < 2; p++) {
@@ -134,6 +164,8 @@ void FixNCFPBC::take_state_of(const std::string &other_id)
   }
   lambda_last = other->lambda_last;
   lambda_step = other->lambda_step;
+  node_lambda_last = other->node_lambda_last;
+  node_lambda_step = other->node_lambda_step;
   tilted_at_definition = other->tilted_at_definition;
   finish_groups();
   if (comm->me == 0)
@@ -143,7 +175,7 @@ void FixNCFPBC::take_state_of(const std::string &other_id)
 
 /* ----------------------------------------------------------------------
    fix ID group ncf/pbc [faces x|y|xy] [endface NAME|auto] [xcells NU NV] [ycells NU NV]
-                        [from FIXID]
+                        [normal hold|free] [from FIXID]
 ------------------------------------------------------------------------- */
 
 void FixNCFPBC::parse(int narg, char **arg)
@@ -200,13 +232,24 @@ void FixNCFPBC::parse(int narg, char **arg)
         user_cells[p][k] = n;
       }
       iarg += 3;
+    } else if (key == "normal") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "hold")
+        normal_hold = 1;
+      else if (v == "free")
+        normal_hold = 0;
+      else
+        error->all(FLERR, "fix ncf/pbc: normal '{}' is not one of hold, free", v);
+      normal_given = true;
+      iarg += 2;
     } else if (key == "from") {
       need(1);
       from_id = arg[iarg + 1];
       iarg += 2;
     } else
       error->all(FLERR, "fix ncf/pbc: unknown keyword '{}'", key);
-    if (key != "from") shape_keyword = key;
+    if (key != "from" && key != "normal") shape_keyword = key;
   }
   // the copied state fixes the faces, cells and end-face codes: a keyword that would set them
   // too would be ignored
@@ -282,6 +325,7 @@ void FixNCFPBC::capture_reference()
   });
 
   for (int k = 0; k < 6; k++) href[k] = domain->h[k];
+  for (int d = 0; d < 3; d++) loref[d] = domain->boxlo[d];
   nodes.clear();
   group_pair.clear();
   ngroups = 0;
@@ -368,8 +412,10 @@ void FixNCFPBC::capture_reference()
                      p ? "y" : "x", nlow, nup, mesh.nu, mesh.nv, ng, nmerged[p]);
   }
   if (nodes.empty())
-    error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on a periodic face (face codes "
-                      "of i_{} are all 0)", group->names[igroup], endface_name);
+    error->all(FLERR,
+               "fix ncf/pbc: no end node of group {} lies on a periodic face (face codes "
+               "of i_{} are all 0)",
+               group->names[igroup], endface_name);
   finish_groups();
 }
 
@@ -382,10 +428,31 @@ void FixNCFPBC::finish_groups()
   mine_ncalls = -1;
   sum_w2.assign(ngroups, 0.0);
   dref.assign(3 * ngroups, 0.0);
-  for (auto &e : nodes) {
+  sref.resize(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); k++) {
+    const EndNode &e = nodes[k];
     sum_w2[e.group] += e.weight * e.weight;
     for (int d = 0; d < 3; d++) dref[3 * e.group + d] += e.weight * e.xref[d];
+    // reduced coordinate along the face normal in the reference box (lamda of LAMMPS)
+    const int p = e.pair;
+    double along = e.xref[p] - loref[p];
+    if (p == 0) along -= href[5] / href[1] * (e.xref[1] - loref[1]);
+    sref[k] = along / href[p];
   }
+  node_lambda.assign(nodes.size(), 0.0);
+}
+
+/* ----------------------------------------------------------------------
+   normal hold: n . x - b of node e at the unwrapped position xu in the current box,
+   n = e_p + a e_u, b such that the node keeps its reduced coordinate along the normal
+------------------------------------------------------------------------- */
+
+double FixNCFPBC::hold_residual(const EndNode &e, const double *xu, const double *lo,
+                                const double *prd, double a) const
+{
+  const int p = e.pair, u = 1 - p;
+  const double s = sref[&e - nodes.data()];
+  return (xu[p] - lo[p]) + a * (xu[u] - lo[u]) - prd[p] * s;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -400,9 +467,10 @@ int FixNCFPBC::setmask()
 void FixNCFPBC::init()
 {
   if (tilted_at_definition)
-    error->all(FLERR,
-               "fix ncf/pbc: the box must be orthogonal when the fix is defined "
-               "(a tilt may develop later, e.g. by fix deform; a restart file keeps the reference)");
+    error->all(
+        FLERR,
+        "fix ncf/pbc: the box must be orthogonal when the fix is defined "
+        "(a tilt may develop later, e.g. by fix deform; a restart file keeps the reference)");
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "fix ncf/pbc needs an atom map (atom_modify map array or hash)");
   for (auto &e : nodes)
@@ -472,21 +540,37 @@ void FixNCFPBC::post_force(int vflag)
   int *type = atom->type;
   const double dt = update->dt;
   const double dt2 = dt * dt * force->ftm2v;
+  const NextBox box1 = next_box(domain, dt);
+  const double acoup[2] = {hold_coupling(0, box1), hold_coupling(1, box1)};
+  const double acur[2] = {hold_coupling(0, next_box(domain, 0.0)), 0.0};
 
   find_mine();
   work.assign((std::size_t) NVAL * ngroups, 0.0);
-  for (const auto &[k, i] : mine) {
+  rnode.resize(mine.size());
+  residual_node_local = 0.0;
+  for (std::size_t q = 0; q < mine.size(); q++) {
+    const auto &[k, i] = mine[q];
     const EndNode &e = nodes[k];
     const double m = rmass ? rmass[i] : mass[type[i]];
-    double xu[3];
+    double xu[3], pred[3];
     domain->unmap(x[i], image[i], xu);
     double *s = &work[(std::size_t) NVAL * e.group];
     for (int d = 0; d < 3; d++) {
-      const double pred = xu[d] + dt * v[i][d] + dt2 * f[i][d] / m;
-      s[d] += e.weight * pred;
+      pred[d] = xu[d] + dt * v[i][d] + dt2 * f[i][d] / m;
+      s[d] += e.weight * pred[d];
       s[3 + d] += e.weight * xu[d];
     }
     s[6] += e.weight * e.weight / m;
+    if (normal_hold) {
+      // the violation now plus the step's displacement along the normal of the next box: fix
+      // deform's remap at the end of the step keeps the reduced coordinates of the positions
+      // now, and the step's displacement adds to them in the next box's metric
+      const int p = e.pair, u = 1 - p;
+      const double now = hold_residual(e, xu, domain->boxlo, domain->prd, acur[p]);
+      rnode[q] = now + (pred[p] - xu[p]) + acoup[p] * (pred[u] - xu[u]);
+      s[7] += e.weight * rnode[q];
+      residual_node_local = std::max(residual_node_local, std::fabs(now));
+    }
   }
   sums.resize(work.size());
   MPI_Allreduce(work.data(), sums.data(), (int) work.size(), MPI_DOUBLE, MPI_SUM, world);
@@ -500,11 +584,19 @@ void FixNCFPBC::post_force(int vflag)
     const double *s = &sums[(std::size_t) NVAL * g];
     const double *D = &dref[3 * g];
     const double target[3] = {F[0][0] * D[0] + F[0][1] * D[1], F[1][1] * D[1], D[2]};
+    const int p = group_pair[g], u = 1 - p;
     for (int d = 0; d < 3; d++) {
       residual_max = std::max(residual_max, std::fabs(s[3 + d] - target[d]));
-      lambda[3 * g + d] = NCF::constraint_multiplier(s[d] - target[d], dt2 * s[6]);
+      if (normal_hold && d == p) continue;    // follows from the node holds
+      if (normal_hold && d == u)
+        lambda[3 * g + d] =
+            NCF::held_group_multiplier(s[d] - target[d], s[7], acoup[p], dt2 * s[6]);
+      else
+        lambda[3 * g + d] = NCF::constraint_multiplier(s[d] - target[d], dt2 * s[6]);
     }
   }
+  const bool reuse_nodes = normal_hold && update->setupflag &&
+      node_lambda_step == update->ntimestep && node_lambda_last.size() == nodes.size();
   if (!update->setupflag) {
     lambda_last = lambda;
     lambda_step = update->ntimestep;
@@ -512,13 +604,24 @@ void FixNCFPBC::post_force(int vflag)
     lambda = lambda_last;
   }
 
-  for (const auto &[k, i] : mine) {
+  if (normal_hold) std::fill(node_lambda.begin(), node_lambda.end(), 0.0);
+  for (std::size_t q = 0; q < mine.size(); q++) {
+    const auto &[k, i] = mine[q];
     const EndNode &e = nodes[k];
     double fc[3];
-    for (int d = 0; d < 3; d++) {
-      fc[d] = e.weight * lambda[3 * e.group + d];
-      f[i][d] += fc[d];
+    for (int d = 0; d < 3; d++) fc[d] = e.weight * lambda[3 * e.group + d];
+    if (normal_hold) {
+      const int p = e.pair, u = 1 - p;
+      const double m = rmass ? rmass[i] : mass[type[i]];
+      const double lam = reuse_nodes
+          ? node_lambda_last[k]
+          : NCF::held_node_multiplier(rnode[q], e.weight, lambda[3 * e.group + u], acoup[p],
+                                      m / dt2);
+      node_lambda[k] = lam;
+      fc[p] += lam;
+      fc[u] += acoup[p] * lam;
     }
+    for (int d = 0; d < 3; d++) f[i][d] += fc[d];
     if (evflag) {
       double xu[3], vv[6];
       domain->unmap(x[i], image[i], xu);
@@ -531,6 +634,16 @@ void FixNCFPBC::post_force(int vflag)
       v_tally(i, vv);
     }
   }
+  // the node multipliers of the last step of a run and of a restart-writing step, for the setup
+  // of the next run (on whichever rank owns the node then)
+  if (normal_hold && !update->setupflag &&
+      (update->ntimestep == update->laststep ||
+       (output->restart_flag && output->next_restart == update->ntimestep))) {
+    node_lambda_last.resize(nodes.size());
+    MPI_Allreduce(node_lambda.data(), node_lambda_last.data(), (int) nodes.size(), MPI_DOUBLE,
+                  MPI_SUM, world);
+    node_lambda_step = update->ntimestep;
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -540,18 +653,42 @@ void FixNCFPBC::post_force(int vflag)
 
 void FixNCFPBC::min_post_force(int /*vflag*/)
 {
+  // (the expressions of the dynamics at m = dt = 1, with the forces as the predicted motion)
   double **f = atom->f;
+  const NextBox box = next_box(domain, 0.0);
+  const double acoup[2] = {hold_coupling(0, box), hold_coupling(1, box)};
   find_mine();
-  work.assign((std::size_t) 3 * ngroups, 0.0);
-  for (const auto &[k, i] : mine) {
+  work.assign((std::size_t) 4 * ngroups, 0.0);
+  rnode.resize(mine.size());
+  for (std::size_t q = 0; q < mine.size(); q++) {
+    const auto &[k, i] = mine[q];
     const EndNode &e = nodes[k];
-    for (int d = 0; d < 3; d++) work[3 * e.group + d] += e.weight * f[i][d];
+    for (int d = 0; d < 3; d++) work[4 * e.group + d] += e.weight * f[i][d];
+    if (normal_hold) {
+      const int p = e.pair;
+      rnode[q] = f[i][p] + acoup[p] * f[i][1 - p];
+      work[4 * e.group + 3] += e.weight * rnode[q];
+    }
   }
   sums.resize(work.size());
   MPI_Allreduce(work.data(), sums.data(), (int) work.size(), MPI_DOUBLE, MPI_SUM, world);
-  for (const auto &[k, i] : mine) {
+  for (std::size_t q = 0; q < mine.size(); q++) {
+    const auto &[k, i] = mine[q];
     const EndNode &e = nodes[k];
-    for (int d = 0; d < 3; d++) f[i][d] -= e.weight * sums[3 * e.group + d] / sum_w2[e.group];
+    const double *s = &sums[4 * e.group];
+    const int p = e.pair, u = 1 - p;
+    for (int d = 0; d < 3; d++) {
+      if (normal_hold && d == p) continue;
+      const double lam = normal_hold && d == u
+          ? NCF::held_group_multiplier(s[d], s[3], acoup[p], sum_w2[e.group])
+          : NCF::constraint_multiplier(s[d], sum_w2[e.group]);
+      f[i][d] += e.weight * lam;
+      if (normal_hold && d == u) {
+        const double node = NCF::held_node_multiplier(rnode[q], e.weight, lam, acoup[p], 1.0);
+        f[i][p] += node;
+        f[i][u] += acoup[p] * node;
+      }
+    }
   }
 }
 
@@ -559,14 +696,17 @@ void FixNCFPBC::min_post_force(int /*vflag*/)
 
 double FixNCFPBC::compute_scalar()
 {
-  return residual_max;
+  // (the node holds' largest residual of the last step on any rank, with the groups' one)
+  double node = 0.0;
+  MPI_Allreduce(&residual_node_local, &node, 1, MPI_DOUBLE, MPI_MAX, world);
+  return std::max(residual_max, node);
 }
 
 double FixNCFPBC::compute_vector(int n)
 {
   if (n == 0) return ngroups;
   if (n == 1) return (double) nodes.size();
-  return residual_max;
+  return compute_scalar();
 }
 
 /* ----------------------------------------------------------------------
@@ -578,10 +718,11 @@ void FixNCFPBC::write_restart(FILE *fp)
   if (comm->me != 0) return;
   std::vector<double> buf;
   // (a restart file written before the multipliers were kept starts with the node count)
-  buf.push_back(RESTART_MARK);
+  buf.push_back(RESTART_MARK_NORMAL);
   buf.push_back((double) nodes.size());
   buf.push_back(ngroups);
   for (int k = 0; k < 6; k++) buf.push_back(href[k]);
+  for (int d = 0; d < 3; d++) buf.push_back(loref[d]);
   for (int p = 0; p < 2; p++)
     buf.insert(buf.end(),
                {(double) pair_on[p], (double) mesh_cells[p][0], (double) mesh_cells[p][1],
@@ -594,6 +735,9 @@ void FixNCFPBC::write_restart(FILE *fp)
   buf.push_back((double) lambda_step);
   buf.push_back((double) lambda_last.size());
   buf.insert(buf.end(), lambda_last.begin(), lambda_last.end());
+  buf.push_back((double) node_lambda_step);
+  buf.push_back((double) node_lambda_last.size());
+  buf.insert(buf.end(), node_lambda_last.begin(), node_lambda_last.end());
   int size = (int) (buf.size() * sizeof(double));
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(buf.data(), sizeof(double), buf.size(), fp);
@@ -603,11 +747,15 @@ void FixNCFPBC::restart(char *raw)
 {
   auto *buf = (double *) raw;
   std::size_t m = 0;
-  const bool with_lambda = buf[0] == RESTART_MARK;
+  const bool with_normal = buf[0] == RESTART_MARK_NORMAL;
+  const bool with_lambda = with_normal || buf[0] == RESTART_MARK;
   if (with_lambda) m++;
   const auto n = (std::size_t) buf[m++];
   ngroups = (int) buf[m++];
   for (int k = 0; k < 6; k++) href[k] = buf[m++];
+  // (files without the reference origin: the box's origin now, which the fixes of a
+  // manufacturing run leave where it was)
+  for (int d = 0; d < 3; d++) loref[d] = with_normal ? buf[m++] : domain->boxlo[d];
   for (int p = 0; p < 2; p++) {
     pair_on[p] = (int) buf[m++];
     mesh_cells[p][0] = (int) buf[m++];
@@ -628,6 +776,11 @@ void FixNCFPBC::restart(char *raw)
     lambda_step = (bigint) buf[m++];
     lambda_last.resize((std::size_t) buf[m++]);
     for (double &l : lambda_last) l = buf[m++];
+  }
+  if (with_normal) {
+    node_lambda_step = (bigint) buf[m++];
+    node_lambda_last.resize((std::size_t) buf[m++]);
+    for (double &l : node_lambda_last) l = buf[m++];
   }
   finish_groups();
   tilted_at_definition = false;

@@ -50,14 +50,22 @@ class FixNCFPBC : public Fix {
   std::vector<double> sum_w2;     // per group: sum of w^2 (minimisation projection)
   std::vector<double> dref;       // per group: D_g = sum_i w_i X_i^ref (3 components)
   double href[6];                 // box h (xprd, yprd, zprd, yz, xz, xy) of the reference state
-  std::string endface_name;       // per-atom integer with the face codes, or "" for auto
-  std::string from_id;            // keyword from: the fix ncf/pbc whose state this one takes
-  int pair_on[2];                 // which face pairs are constrained
-  int faces_auto;                 // 1: constrain the pairs that have end nodes
-  int user_cells[2][2];           // user mesh per pair (0 = auto)
-  int mesh_cells[2][2];           // mesh used
-  int nmerged[2];                 // groups lost to merging, per pair
-  double residual_max;            // largest |constraint| before the last correction (length)
+  double loref[3];                // box origin of the reference state
+  // keyword normal: 1 hold (every end node keeps its reduced coordinate along its face normal,
+  // the walls of the paper's section 4.3 together with Eq. 2), 0 free (Eq. 2 alone, the default)
+  int normal_hold = 0;
+  bool normal_given = false;
+  std::vector<double> sref;            // per node: reduced coordinate along its face normal
+  std::vector<double> rnode;           // per own node (order of mine): predicted hold residual
+  double residual_node_local = 0.0;    // largest |hold residual| of this rank's nodes, last step
+  std::string endface_name;            // per-atom integer with the face codes, or "" for auto
+  std::string from_id;                 // keyword from: the fix ncf/pbc whose state this one takes
+  int pair_on[2];                      // which face pairs are constrained
+  int faces_auto;                      // 1: constrain the pairs that have end nodes
+  int user_cells[2][2];                // user mesh per pair (0 = auto)
+  int mesh_cells[2][2];                // mesh used
+  int nmerged[2];                      // groups lost to merging, per pair
+  double residual_max;                 // largest |constraint| before the last correction (length)
 
   std::vector<double> work, sums, lambda;    // per-step buffers
   // the end nodes this rank owns: (index into nodes, local atom index), in the order of nodes;
@@ -73,6 +81,10 @@ class FixNCFPBC : public Fix {
   // through a restart file) is the same run
   std::vector<double> lambda_last;
   bigint lambda_step;
+  // the same for the per-node multipliers of the hold (indexed as nodes), gathered on the last
+  // step of a run and on restart-writing steps only (the setup may find the nodes on other ranks)
+  std::vector<double> node_lambda, node_lambda_last;
+  bigint node_lambda_step = -1;
   // defined in a tilted box: no reference captured; an error at init unless a restart file
   // restored one (a restart written after a shear by fix deform)
   bool tilted_at_definition = false;
@@ -81,8 +93,8 @@ class FixNCFPBC : public Fix {
   void capture_reference();
   void take_state_of(const std::string &other_id);
   void finish_groups();
-  void box_vector(int pair, const double *h, double *a) const;
-  void predicted_box(double *h1, double *lo1, bool &remap, int &deform_groupbit) const;
+  double hold_residual(const EndNode &e, const double *xu, const double *lo, const double *prd,
+                       double a) const;
   void check_fix_order();
 };
 

@@ -58,6 +58,31 @@ inline double constraint_multiplier(double residual, double dt2_sum_w2_over_m)
   return -residual / dt2_sum_w2_over_m;
 }
 
+// Face-normal hold (fix ncf/pbc normal hold): every end node i of a group on the faces of pair p
+// keeps its reduced coordinate along the face normal, the linear constraint
+//     n . x_i = b_i,   n = e_p + a e_u,
+// with e_u the face's in-plane periodic direction (a = -xy/ly on the x faces of a box tilted by
+// xy, 0 otherwise), while the group's constraint along u, sum_j w_j x_j,u = T, still holds (the
+// group's constraint along the normal follows from the node holds and is not imposed again).
+// Forces F_i = lambda_i n + w_i mu e_u make both exact after one explicit step; the two couple
+// only through a. With r_i = n . x_i^pred - b_i and R = sum_j w_j x_j,u^pred - T (the predicted
+// residuals) and sum_w_r = sum_j w_j r_j:
+//     mu       = -((1 + a^2) R - a sum_w_r) / (dt^2 sum_j w_j^2 / m_j)
+//     lambda_i = -(r_i m_i / dt^2 + w_i mu a) / (1 + a^2)
+// (with a = 0: the group multiplier above and lambda_i = -r_i m_i / dt^2, node by node).
+// Minimisation projects forces with the same expressions at m = dt = 1, r_i = n . f_i, R = sum w f_u.
+inline double held_group_multiplier(double residual, double sum_w_r, double a,
+                                    double dt2_sum_w2_over_m)
+{
+  return -((1.0 + a * a) * residual - a * sum_w_r) / dt2_sum_w2_over_m;
+}
+
+inline double held_node_multiplier(double residual, double weight, double mu, double a,
+                                   double m_over_dt2)
+{
+  return -(residual * m_over_dt2 + weight * mu * a) / (1.0 + a * a);
+}
+
 }    // namespace NCF
 
 #endif

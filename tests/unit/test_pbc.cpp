@@ -162,3 +162,38 @@ TEST(PbcMultiplier, MakesTheConstraintExactAndConservesMomentum)
   EXPECT_NEAR(c, 0.0, 1e-18);
   EXPECT_NEAR(fsum, 0.0, 1e-12 * std::fabs(lambda));
 }
+
+// face-normal hold on the x faces of a box tilted by xy: every node's n . x = b_i (n = (1, a))
+// and the group's constraint along y both exact after the step, whatever the tilt; the forces
+// of a group's in-face constraint still sum to zero
+TEST(PbcHeldMultiplier, MakesNodeHoldsAndGroupConstraintExactTogether)
+{
+  const std::vector<double> w = {1.0 / 3, 1.0 / 3, 1.0 / 3, -0.5, -0.5};
+  const std::vector<double> m = {1e-9, 2e-9, 0.5e-9, 3e-9, 1.5e-9};
+  const std::vector<double> px = {4.01e-3, 3.98e-3, 4.005e-3, 1e-5, -2e-5};    // predicted x
+  const std::vector<double> py = {1.1e-3, 0.9e-3, 1.3e-3, 0.2e-3, 2.1e-3};     // predicted y
+  const std::vector<double> b = {4.0e-3, 3.99e-3, 4.0e-3, 0.0, 0.0};           // node targets
+  const double target_y = 0.1e-3, dt = 2e-9;
+  for (double a : {0.0, -0.3, 0.7}) {
+    std::vector<double> r(5);
+    double R = -target_y, swr = 0.0, s = 0.0;
+    for (int i = 0; i < 5; i++) {
+      r[i] = px[i] + a * py[i] - b[i];
+      R += w[i] * py[i];
+      swr += w[i] * r[i];
+      s += w[i] * w[i] / m[i];
+    }
+    const double mu = held_group_multiplier(R, swr, a, dt * dt * s);
+    double cy = -target_y, fy_group = 0.0;
+    for (int i = 0; i < 5; i++) {
+      const double lam = held_node_multiplier(r[i], w[i], mu, a, m[i] / (dt * dt));
+      const double fx = lam, fy = lam * a + w[i] * mu;
+      const double x1 = px[i] + dt * dt * fx / m[i], y1 = py[i] + dt * dt * fy / m[i];
+      EXPECT_NEAR(x1 + a * y1 - b[i], 0.0, 1e-17) << "a = " << a << ", node " << i;
+      cy += w[i] * y1;
+      fy_group += w[i] * mu;
+    }
+    EXPECT_NEAR(cy, 0.0, 1e-17) << "a = " << a;
+    EXPECT_NEAR(fy_group, 0.0, 1e-12 * std::fabs(mu)) << "a = " << a;
+  }
+}
