@@ -91,9 +91,14 @@ struct Card {
   int yarn_line = 0;
   bool loops_bottom = true;    // loops on the bottom face (z < 0), underlaps on the top face
   double leg_gap = 1.02;       // distance of the two yarn legs at one hole / yarn diameter
+  // the idealised yarn path: warp-knit loops (both legs through one hole, the loop out and back
+  // on the loop face, its head around the next course's legs) or a running stitch (down through
+  // one hole, along the loop face, up through the next; the path before the knit)
+  bool knit = true;
   double yarn_packing = NCF::HEXAGONAL_PACKING;    // packing coefficient of the yarn chain
   // manufacturing (used by the stage scripts, written to the settings)
   double needle_diameter = 0.6e-3;    // needle shaft diameter [m]
+  double needle_tip = 0.6e-3;         // length of the needle's conical point [m]
   double pretension = 0.16;           // shrink of the yarn's rest length in stage 4 [-]
   // the quality preset (no 'quality' key: standard); chain_diameter, fibre_mesh and yarn_mesh
   // above hold its values unless the card gives them (key_line tells which)
@@ -161,7 +166,14 @@ struct YarnInfo {
   double length_per_yarn = 0.0;          // path length of one yarn in the RVE [m]
   double areal_weight = 0.0;             // yarn mass / RVE area [kg/m^2]
   double z_bottom = 0.0, z_top = 0.0;    // centre-line heights of the two faces [m]
-  double leg_offset = 0.0;               // x offset of each leg from its hole centre [m]
+  double z_loop = 0.0, z_under = 0.0;    // the loop face's and the underlap face's heights [m]
+  // knit: the loops leave their hole at z_loop_out, a level further out than z_loop, and rise to
+  // z_loop at their head, so that each loop passes outside the one before it near its hole
+  // and inside it at its head (interlocked); running: z_loop [m]
+  double z_loop_out = 0.0;
+  double leg_offset = 0.0;         // x offset of each leg from its hole centre [m]
+  double loop_half_width = 0.0;    // knit: half-width (y) of a loop [m]
+  double head_offset = 0.0;        // knit: x of a loop's head beyond the next hole [m]
   double node_mass = 0.0;
   double min_l0 = 0.0, max_l0 = 0.0;
   double dt_crit = 0.0;

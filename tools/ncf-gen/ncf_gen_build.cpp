@@ -23,6 +23,8 @@ namespace {
   constexpr double DEG = PI / 180.0;
   constexpr double INCH = 0.0254;
   constexpr double MARGIN = 1e-6;    // relative clearance margin above the contact diameter
+  // relative clearance of the knitted loops' sides and levels (doc/ncf-gen.md)
+  constexpr double LEVEL_MARGIN = 0.02;
 
   // ---------------------------------------------------------------- random numbers
   // mt19937_64 is specified bit for bit by the standard; the transforms below are our own, so a
@@ -185,11 +187,10 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
   // an RVE side shorter than two elements has no room for a chain; a course shorter than that is
   // a stitch length typed in the wrong unit
   if (lx < 2.0 * card.fibre_mesh)
-    throw InputError(at(card.path, line_of("stitch_length", "pattern")) +
-                     ": key 'stitch_length': value " + num(card.stitch_length) +
-                     " m gives an RVE " + num(lx) +
-                     " m long, shorter than two fibre elements (fibre_mesh " +
-                     num(card.fibre_mesh) + " m)");
+    throw InputError(
+        at(card.path, line_of("stitch_length", "pattern")) + ": key 'stitch_length': value " +
+        num(card.stitch_length) + " m gives an RVE " + num(lx) +
+        " m long, shorter than two fibre elements (fibre_mesh " + num(card.fibre_mesh) + " m)");
   if (ly < 2.0 * card.fibre_mesh)
     throw InputError(at(card.path, line_of("gauge", "rve")) + ": key 'gauge': value " +
                      num(card.gauge) + " gives an RVE " + num(ly) +
@@ -224,8 +225,8 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
       throw InputError(at(card.path, line_of("rve", "stitch_length")) +
                        ": the card asks for about " + std::to_string((long long) nodes_estimate) +
                        " fibre nodes (RVE " + num(lx) + " x " + num(ly) + " m, fibre_mesh " +
-                       num(card.fibre_mesh) +
-                       " m), more than the limit of " + std::to_string((long long) MAX_NODES) +
+                       num(card.fibre_mesh) + " m), more than the limit of " +
+                       std::to_string((long long) MAX_NODES) +
                        ": check the keys 'rve', 'stitch_length', 'gauge' and 'fibre_mesh'");
 
     // main axis: the face pair the chains cross once
@@ -508,24 +509,50 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
   const double zloop = card.loops_bottom ? zb : zt, zunder = card.loops_bottom ? zt : zb;
   y.z_bottom = zb;
   y.z_top = zt;
-  // An underlap over k needles runs from one hole's up-leg to the next course's down-leg, 2e
-  // apart along x, so those of neighbouring yarns are parallel and 2e/k apart, and an underlap
-  // crossing a hole passes between that hole's two legs: legs at least k yarn diameters apart
-  // (plus the leg gap margin) keep wide underlaps (cord, satin) clear of each other.
   const int kmax = card.pattern.max_underlap;
-  y.leg_offset = 0.5 * card.leg_gap * dy * std::max(1, kmax);
-  const double e = y.leg_offset;
+  if (card.knit) {
+    // Warp knit (doc/ncf-gen.md "The idealised yarn path"): the two legs of a course pass through
+    // their hole 2e apart along x, the loop runs out along +x at y - G, across its head at
+    // x = next hole + h, and back at y + G. It leaves its hole at z_out, LEVEL_MARGIN clear below
+    // the head of the loop before (which lies at z_loop, against the mat), and rises to z_loop at
+    // its own head: the next course's legs pass through it there. All loops of a wale are the
+    // same shape one course apart, so their sloped sides stay (1 + LEVEL_MARGIN) d_y apart in z.
+    // The underlap runs on the other face from the up-leg to the next course's down-leg; the
+    // holes are one course apart, so no underlap passes another hole.
+    y.leg_offset = 0.5 * card.leg_gap * dy;
+    y.loop_half_width = (1.0 + LEVEL_MARGIN) * dy;
+    y.head_offset = y.leg_offset + (1.0 + LEVEL_MARGIN) * dy;
+  } else {
+    // Running stitch: an underlap over k needles runs from one hole's up-leg to the next course's
+    // down-leg, 2e apart along x, so those of neighbouring yarns are parallel and 2e/k apart, and
+    // an underlap crossing a hole passes between that hole's two legs: legs at least k yarn
+    // diameters apart (plus the leg gap margin) keep wide underlaps (cord, satin) clear of each
+    // other.
+    y.leg_offset = 0.5 * card.leg_gap * dy * std::max(1, kmax);
+  }
+  const double e = y.leg_offset, G = y.loop_half_width, h = y.head_offset;
+  const double loop_span = f.course + h + e;    // x extent of a knitted loop's outgoing side
+  const double dz_loop = card.knit ? (1.0 + LEVEL_MARGIN) * dy * loop_span / f.course : 0.0;
+  const double zout = zloop + (card.loops_bottom ? -dz_loop : dz_loop);
+  y.z_loop = zloop;
+  y.z_under = zunder;
+  y.z_loop_out = zout;
   if (2.0 * e + dy >= f.course)
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
                      "': yarn diameter " + num(dy) +
                      " m is too large for the stitch length (legs of neighbouring holes overlap)");
+  if (card.knit && 2.0 * G + (1.0 + LEVEL_MARGIN) * dy >= f.needle_spacing)
+    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
+                     "': yarn diameter " + num(dy) +
+                     " m is too large for the gauge (the loops of neighbouring needles overlap)");
   const std::vector<int> &needle = card.pattern.needle;
   const int p = card.pattern.repeat;
   // the yarn nodes and the needles, counted before any is made
   {
-    const double legs = 2.0 * std::fabs(zloop - zunder) / dy, loop = (f.course - 2.0 * e) / dy;
-    const double under = std::hypot(2.0 * e, (double) kmax * f.needle_spacing) / dy;
-    const double yarn_nodes = (double) card.r_w * f.courses * (legs + loop + under + 4.0);
+    const double legs = 2.0 * std::fabs(zout - zunder) / dy;
+    const double loop = card.knit ? (2.0 * loop_span + 4.0 * G) / dy : (f.course - 2.0 * e) / dy;
+    const double under = std::hypot(f.course, (double) kmax * f.needle_spacing) / dy;
+    const double yarn_nodes = (double) card.r_w * f.courses * (legs + loop + under + 8.0);
     if (!(yarn_nodes <= MAX_NODES) || !((double) f.courses * card.r_w <= MAX_NODES))
       throw InputError(
           at(card.path, line_of("rve", "stitch_length")) + ": the stitching yarn needs about " +
@@ -538,17 +565,30 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
   double total_length = 0.0;    // of all yarns
   y.min_l0 = 1e300;
   for (int w = 0; w < card.r_w; w++) {
-    // corner points of the idealised path over the RVE length: per course c, down through the
-    // hole (c, n_c) just after its centre, the loop along +x on the loop face, up through the
-    // hole (c+1, n_c) just before its centre, the underlap on the other face to hole (c+1, n_c+1)
     std::vector<std::array<double, 3>> corners;
     for (int c = 0; c < f.courses; c++) {
       const double yn = (needle[c % p] + w + 0.5) * f.needle_spacing;
       const double xc = (c + 0.5) * f.course, xn = xc + f.course;
-      corners.push_back({xc + e, yn, zunder});
-      corners.push_back({xc + e, yn, zloop});
-      corners.push_back({xn - e, yn, zloop});
-      corners.push_back({xn - e, yn, zunder});
+      if (card.knit) {
+        // per course c at hole (c, n_c): down at x_c - e, out at y - G, rising to the head at
+        // x_{c+1} + h, back at y + G, up at x_c + e; the underlap to the next course's down-leg
+        corners.push_back({xc - e, yn, zunder});
+        corners.push_back({xc - e, yn, zout});
+        corners.push_back({xc - e, yn - G, zout});
+        corners.push_back({xn + h, yn - G, zloop});
+        corners.push_back({xn + h, yn + G, zloop});
+        corners.push_back({xc + e, yn + G, zout});
+        corners.push_back({xc + e, yn, zout});
+        corners.push_back({xc + e, yn, zunder});
+      } else {
+        // per course c: down through the hole (c, n_c) just after its centre, the loop along +x
+        // on the loop face, up through the hole (c+1, n_c) just before its centre, the underlap
+        // on the other face to hole (c+1, n_c+1)
+        corners.push_back({xc + e, yn, zunder});
+        corners.push_back({xc + e, yn, zloop});
+        corners.push_back({xn - e, yn, zloop});
+        corners.push_back({xn - e, yn, zunder});
+      }
     }
     // close the loop: the first corner of the next period, one RVE length further along x
     std::array<double, 3> closing = corners.front();
@@ -613,8 +653,8 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
       f.needles.emplace_back((c + 0.5) * f.course, (w + 0.5) * f.needle_spacing);
 
   // ---------------------------------------------------------------- box in z
-  const double top = std::max(f.stack_top, zt + ry);
-  const double bottom = std::min(0.0, zb - ry);
+  const double top = std::max(f.stack_top, std::max(zt, zout) + ry);
+  const double bottom = std::min(0.0, std::min(zb, zout) - ry);
   const double pad = 0.5 * (top - bottom);
   f.zlo = bottom - pad;
   f.zhi = top + pad;

@@ -223,15 +223,30 @@ Card parse_card(const std::string &text, const std::string &path)
   // keys of a layer block and of the whole card
   static const std::map<std::string, Dim> layer_keys = {
       {"areal_weight", AREAL}, {"material", NONE}, {"sigma", ANGLE}};
-  static const std::map<std::string, Dim> global_keys = {
-      {"name", NONE},         {"materials", NONE},        {"seed", NONE},
-      {"rve", NONE},          {"chain_diameter", LENGTH}, {"packing", NONE},
-      {"fibre_mesh", LENGTH}, {"yarn_mesh", LENGTH},      {"V_L", NONE},
-      {"mass_scaling", NONE}, {"sampling", NONE},         {"pattern", NONE},
-      {"gauge", NONE},        {"stitch_length", LENGTH},  {"yarn", NONE},
-      {"loops", NONE},        {"leg_gap", NONE},          {"layer", ANGLE},
-      {"needle_diameter", LENGTH}, {"pretension", NONE},  {"quality", NONE},
-      {"yarn_packing", NONE}};
+  static const std::map<std::string, Dim> global_keys = {{"name", NONE},
+                                                         {"materials", NONE},
+                                                         {"seed", NONE},
+                                                         {"rve", NONE},
+                                                         {"chain_diameter", LENGTH},
+                                                         {"packing", NONE},
+                                                         {"fibre_mesh", LENGTH},
+                                                         {"yarn_mesh", LENGTH},
+                                                         {"V_L", NONE},
+                                                         {"mass_scaling", NONE},
+                                                         {"sampling", NONE},
+                                                         {"pattern", NONE},
+                                                         {"gauge", NONE},
+                                                         {"stitch_length", LENGTH},
+                                                         {"yarn", NONE},
+                                                         {"loops", NONE},
+                                                         {"leg_gap", NONE},
+                                                         {"layer", ANGLE},
+                                                         {"needle_diameter", LENGTH},
+                                                         {"needle_tip", LENGTH},
+                                                         {"pretension", NONE},
+                                                         {"quality", NONE},
+                                                         {"yarn_packing", NONE},
+                                                         {"yarn_path", NONE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -354,6 +369,13 @@ Card parse_card(const std::string &text, const std::string &path)
         card.loops_bottom = false;
       else
         fail(where, "key 'loops': value '" + val + "' must be 'bottom' or 'top'");
+    } else if (key == "yarn_path") {
+      if (val == "knit")
+        card.knit = true;
+      else if (val == "running")
+        card.knit = false;
+      else
+        fail(where, "key 'yarn_path': value '" + val + "' must be 'knit' or 'running'");
     } else if (key == "yarn_packing") {
       card.yarn_packing = positive(key);
       if (card.yarn_packing > 1.0)
@@ -364,6 +386,8 @@ Card parse_card(const std::string &text, const std::string &path)
         fail(where, "key 'leg_gap': value '" + val + "' must be >= 1 (legs would overlap)");
     } else if (key == "needle_diameter") {
       card.needle_diameter = positive(key);
+    } else if (key == "needle_tip") {
+      card.needle_tip = positive(key);
     } else if (key == "quality") {
       if (!find_quality(val)) {
         std::string known;

@@ -174,13 +174,14 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   for (int i = 0; i < nl; i++)
     orient += (i ? " " : "") + std::string("layer ") + std::to_string(i + 1) + " " +
         g(f.layers[i].spec.angle);
-  s += "variable ncf_orient_layers string \"" + orient +
-      "\"  # arguments of compute ncf/orient\n";
+  s += "variable ncf_orient_layers string \"" + orient + "\"  # arguments of compute ncf/orient\n";
   double dt = f.yarn.dt_crit;
   for (auto &L : f.layers) dt = std::min(dt, L.dt_crit);
   s += "variable ncf_dt_crit equal " + g(dt) + "  # min over bonds of L0 sqrt(rho/E) [s]\n";
   s += "variable ncf_needle_d equal " + g(f.card.needle_diameter) +
       "  # needle shaft diameter, stage 2 [m]\n";
+  s += "variable ncf_needle_tip equal " + g(f.card.needle_tip) +
+      "  # length of the needle's conical point, stages 2-3 [m]\n";
   s += "variable ncf_pretension equal " + g(f.card.pretension) +
       "  # shrink of the yarn's rest length, stage 4 [-]\n";
   // the run parameters of the quality preset: index variables, the defaults of the stage
@@ -222,6 +223,11 @@ std::string yarn_settings_text(const Fabric &f)
   std::string s = "# ncf-gen: groups of the stitching yarn of '" + f.card.name +
       "', include after read_data ... add append of the yarn data file\n";
   s += "group ncf_yarn type " + std::to_string(f.yarn_type()) + "\n";
+  // the heights of the generated path, for the stitch stage's placement of the yarn
+  s += "variable ncf_yarn_zloop equal " + g(f.yarn.z_loop) +
+      "  # loop face, at the loops' heads [m]\n";
+  s += "variable ncf_yarn_zunder equal " + g(f.yarn.z_under) + "  # underlap face [m]\n";
+  s += "variable ncf_yarn_path string " + std::string(f.card.knit ? "knit" : "running") + "\n";
   return s;
 }
 
@@ -333,9 +339,17 @@ std::string summary_text(const Fabric &f)
   line("loops on / underlaps on",
        std::string(c.loops_bottom ? "bottom / top" : "top / bottom") +
            fmt("  (faces at z = %.4f", y.z_bottom * 1e3) + fmt(" and %.4f mm)", y.z_top * 1e3));
+  line("yarn path",
+       c.knit ? "warp knit (loops interlocked along the wale)"
+              : "running stitch (one hole to the next)");
   line("legs: offset from the hole centre", fmt("%.4f mm", y.leg_offset * 1e3));
-  line("needle diameter, pretension",
-       fmt("%.4g mm", c.needle_diameter * 1e3) + fmt(", %.4g (stages 2 and 4)", c.pretension));
+  if (c.knit)
+    line("loops: half-width, head, z levels",
+         fmt("%.4f mm", y.loop_half_width * 1e3) + fmt(", %.4f mm", y.head_offset * 1e3) +
+             fmt(", z = %.4f", y.z_loop_out * 1e3) + fmt(" to %.4f mm", y.z_loop * 1e3));
+  line("needle diameter, point length",
+       fmt("%.4g mm", c.needle_diameter * 1e3) + fmt(", %.4g mm (stage 2)", c.needle_tip * 1e3));
+  line("pretension (yarn shrink)", fmt("%.4g (stage 4)", c.pretension));
   line("element length min / max", fmt("%.5f", y.min_l0 * 1e3) + fmt(" / %.5f mm", y.max_l0 * 1e3));
   line("node mass (lumped, scaled)", fmt("%.5g kg", y.node_mass));
   line("critical time step of the bonds", fmt("%.4g s", y.dt_crit));
