@@ -496,6 +496,48 @@ class Loops(unittest.TestCase):
         for l in loops:
             self.assertAlmostEqual(l["chord"], 2.1 * MM, places=12)
 
+    def test_knitted_loop_tilt_from_hole_to_head(self):
+        """Knitted loops (both legs through one hole, out and back on the bottom face with a head
+        across, as ncf-gen's warp knit), their axes tilted by +14 and -9 deg from x (the second
+        across the periodic x face), the legs side by side along the axis so that the two sides
+        differ in length: the tilt is that of the axis, exactly, and the chord the loop's extent
+        along it."""
+        lx, ly = 4.4 * MM, 5.08 * MM
+        zb, zt = -0.04 * MM, 0.9 * MM
+        chains = [x_chain(y, lx, z=0.2 * MM) for y in (1 * MM, 3 * MM)]
+        chains += [Chain(c.nodes + [0, 0.5 * MM, 0.4 * MM], 2, closed=True) for c in chains]
+        e, g, reach = 0.05 * MM, 0.1 * MM, 2.5 * MM
+
+        def knit(x0, y0, tilt):
+            a = math.radians(tilt)
+            u = np.array([math.cos(a), math.sin(a)])          # along the loop's axis
+            v = np.array([-math.sin(a), math.cos(a)])         # across it
+            h = np.array([x0, y0])
+            pts = [h - e * u, h - e * u - g * v, h + reach * u - g * v, h + reach * u + g * v,
+                   h + e * u + g * v, h + e * u]
+            down = np.array([[*pts[0], z] for z in np.linspace(zt, zb, 8)])
+            loop = [down]
+            for p0, p1 in zip(pts[:-1], pts[1:]):
+                loop.append(straight(p0[0], p0[1], p1[0], p1[1], zb, step=0.05 * MM)[1:])
+            up = np.array([[*pts[-1], z] for z in np.linspace(zb, zt, 8)])[1:]
+            back = straight(pts[-1][0], pts[-1][1], pts[0][0], pts[0][1], zt, step=0.02 * MM)[1:-1]
+            return Chain(np.concatenate(loop + [up, back]), 0, closed=True)
+
+        chains += [knit(1.0 * MM, 1.5 * MM, 14.0), knit(3.9 * MM, 4.0 * MM, -9.0)]
+        with tmpdir() as tmp:
+            p = os.path.join(tmp, "k.data")
+            write_data(p, (lx, ly, -1 * MM, 2 * MM), chains, 3)
+            data = M.read_data(p)
+            fab = M.Fabric("t")
+            fab.layers = [M.LayerInfo(1, 0.0), M.LayerInfo(2, 90.0)]
+            _, loops = M.loop_tilts(data, fab)
+        self.assertEqual(len(loops), 2)
+        tilts = sorted(l["tilt"] for l in loops)
+        self.assertAlmostEqual(tilts[0], -9.0, places=9)
+        self.assertAlmostEqual(tilts[1], 14.0, places=9)
+        for l in loops:
+            self.assertAlmostEqual(l["chord"], reach + e, places=12)
+
 
 class Summary(unittest.TestCase):
     def test_yarn_diameter_in_both_summary_formats(self):

@@ -886,7 +886,13 @@ def loop_tilts(data, fab, loop_z=None, min_length=0.2e-3):
 
     A loop is a connected run of yarn bonds whose two nodes both lie beyond loop_z on the loop
     face (default: the middle of the outermost layer there, the median z of its nodes). Its tilt
-    is the angle from +x of the in-plane chord from its first to its last node, in (-90, 90]."""
+    is the angle from +x of its long axis, in (-90, 90]: the principal direction of the
+    length-weighted orientation tensor of its in-plane segments. That is the direction of its
+    sides for a knitted loop (both ends out of one hole, out and back with a head across:
+    exactly, whether or not its two legs sit side by side along the axis), and of the loop itself
+    for a running stitch's loop from one hole to the next. x, y: the midpoint of its ends (the
+    hole of a knitted loop); chord: its extent along the axis (loops shorter than min_length are
+    not counted)."""
     yarn = data.layer == 0
     if not yarn.any():
         return None, []
@@ -921,26 +927,34 @@ def loop_tilts(data, fab, loop_z=None, min_length=0.2e-3):
         ends = [m for m in members if len(adj[m]) == 1]
         if len(ends) != 2 or any(len(adj[m]) > 2 for m in members):
             continue        # a closed ring or a branched piece is no loop between two holes
-        # walk from one end to the other, summing the minimum-image steps
+        # walk from one end to the other, summing the minimum-image steps (the path unwrapped)
         prev, cur = -1, ends[0]
-        chord = np.zeros(2)
-        length = 0.0
+        path = [np.zeros(2)]
         while True:
             nxt = [q for q in adj[cur] if q != prev]
             if not nxt:
                 break
             q = nxt[0]
             step = data.min_image(data.pos[nodes[q], :2] - data.pos[nodes[cur], :2])
-            chord += step
-            length += math.hypot(*step)
+            path.append(path[-1] + step)
             prev, cur = cur, q
-        if math.hypot(*chord) < min_length:
+        path = np.array(path)
+        seg = np.diff(path, axis=0)
+        length = float(np.hypot(*seg.T).sum())
+        # the long axis: principal direction of sum_k l_k t_k t_k = sum_k s_k s_k / |s_k|
+        ln = np.maximum(np.hypot(*seg.T), 1e-300)
+        a2 = (seg[:, :, None] * seg[:, None, :] / ln[:, None, None]).sum(axis=0)
+        w, vec = np.linalg.eigh(a2)
+        axis = vec[:, 1]
+        proj = path @ axis
+        extent = float(proj.max() - proj.min())
+        if extent < min_length:
             continue
         start = data.pos[nodes[ends[0]], :2]
-        mid = start + 0.5 * chord
-        tilt = float(wrap_deviation(math.degrees(math.atan2(chord[1], chord[0]))))
-        loops.append(dict(x=float(mid[0]), y=float(mid[1]), chord=float(math.hypot(*chord)),
-                          length=length, tilt=tilt))
+        mid = start + 0.5 * path[-1]
+        tilt = float(wrap_deviation(math.degrees(math.atan2(axis[1], axis[0]))))
+        loops.append(dict(x=float(mid[0]), y=float(mid[1]), chord=extent, length=length,
+                          tilt=tilt))
     return loop_z, loops
 
 
