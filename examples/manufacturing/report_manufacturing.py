@@ -12,8 +12,12 @@ and dumps PREFIX.STAGE.dump, the generator's PREFIX.summary and PREFIX.needles, 
   - stage 3: the yarn overlaps nothing where it is inserted (zero contact force on it);
   - quasi-static: kinetic energy small against the work done / the energy stored;
   - stage 4: the yarn tension against the rod model EA (s - contraction);
-  - stage 5: thickness, fibre volume fraction, out-of-balance force, averaged PBC violation, the
-    pressure the yarn's legs exert against the mat's pressure at that thickness.
+  - stage 5: thickness, fibre volume fraction, out-of-balance force, averaged PBC violation.
+And, as physics (a verdict, not a check of the code: it does not change the exit status), after
+stages 4 and 5: does the stitch hold? The yarn's mean tension against EA s (a stitch holds when
+it carries at least HOLD_TENSION and has contracted less than its shrink), and the pressure its
+legs put on the fabric beside the plates' at the end of stage 4 and the thickness the fabric
+swells to when only the yarn holds it.
 Writes a Markdown report (stdout, or --out) and the curve of the plate pressure through the stages
 (PREFIX.pressure.png). Exit status 1 if a check fails.
 """
@@ -26,6 +30,9 @@ import sys
 from report_compaction import thermo_blocks    # noqa: E402  (same folder)
 
 STAGES = ["compact", "pierce", "stitch", "pretension", "release"]
+# a stitch holds when its yarn carries at least this mean tension [N] (a real NCF's stitching yarn
+# is pretensioned to a clear share of EA s, order 0.05-0.5 N for the paper's 5-8 tex PES yarns)
+HOLD_TENSION = 0.05
 TITLES = {"compact": "1 compaction", "pierce": "2 piercing", "stitch": "3 stitching",
           "pretension": "4 pretension", "release": "5 release"}
 
@@ -209,6 +216,23 @@ def yarn_tension(data, yarn_type, shrink):
             "p_yarn": legs / (lx * ly), "nbonds": len(tensions)}
 
 
+def stitch_verdict(stage, yt, s, plates_pressure, thickness, tl_sum):
+    """One line: does the stitch hold at the end of this stage (physics)?"""
+    t, ea = yt["mean"], yt["ea"]
+    holds = t >= HOLD_TENSION and yt["contraction"] < s
+    text = (f"- stage {STAGES.index(stage) + 1} ({stage}): yarn tension {t:.3g} N = "
+            f"{t / (ea * s) * 100:.1f} % of EA s = {ea * s:.3g} N, contraction "
+            f"{yt['contraction'] * 100:.1f} % of the shrink's {s * 100:.1f} %: "
+            f"**{'holds' if holds else 'slack'}** (holds: at least {HOLD_TENSION:g} N and contracted "
+            f"less than the shrink)")
+    if stage == "release" and plates_pressure is not None:
+        text += (f"; the legs press the fabric with {yt['p_yarn']:.3g} Pa, where at the end of stage 4 "
+                 f"the plates added {plates_pressure:.3g} Pa to hold it at sum t_L; released, it "
+                 f"swelled to {thickness / tl_sum:.3f} x sum t_L, where the mat pushes back with the "
+                 f"yarn's pull alone")
+    return text + "."
+
+
 def layer_orientation(data, angles):
     """Length-weighted mean and standard deviation [deg] of the in-plane angle of every bond of
     each layer (bond type k = layer k) from the layer's nominal angle, wrapped to (-90, 90]."""
@@ -291,6 +315,7 @@ def report(prefix, d, plots):
             "|---|---|---|---|---|---|---|"]
     curve = []    # (cumulative step, pressure, stage)
     details = []
+    verdicts = []
     angles = [float(line.split()[3]) for line in open(summ) if line.strip().startswith("nominal angle, sigma")]
     sigmas = [float(line.split()[5]) for line in open(summ) if line.strip().startswith("nominal angle, sigma")]
     orient_rows = []
@@ -371,8 +396,8 @@ def report(prefix, d, plots):
             s = s_y
             yt = yarn_tension(data, yarn_type, s)
             model = yt["ea"] * (s - yt["contraction"])
-            # compute bond/local's force is positive when the bond pushes its atoms apart
-            lam = -res["yarn_tension_mean"]
+            # (the stages print -compute bond/local's force, i.e. a tension)
+            lam = res["yarn_tension_mean"]
             t_ok = abs(lam - yt["mean"]) <= 1e-6 * max(abs(yt["mean"]), 1e-12) + 1e-9 * yt["ea"]
             m_ok = abs(model - yt["mean"]) <= 0.02 * yt["ea"] * s
             ok &= t_ok and m_ok
@@ -385,6 +410,9 @@ def report(prefix, d, plots):
                 f"{fmt_ok(m_ok)} within 2 % of EA s), LAMMPS compute bond/local: {lam:.4g} N ({fmt_ok(t_ok)}); "
                 f"the legs crossing the mid-plane pull the faces together with {yt['legs_fz']:.4g} N, "
                 f"a pressure of {yt['p_yarn']:.4g} Pa on the RVE.")
+            pre = printed(os.path.join(d, f"{prefix}.pretension.log"), "PRETENSION")
+            verdicts.append(stitch_verdict(stage, yt, s, pre.get("pressure_upper") if pre else None,
+                                           res.get("thickness"), tl_sum))
             if stage == "release":
                 thick, vf = res["thickness"], res["vf"]
                 fmax = res["fmax"]
@@ -412,6 +440,9 @@ def report(prefix, d, plots):
                    f"{ratio:.2g} | {', '.join(checks)} |")
     out.append("")
     out += details
+    if verdicts:
+        out += ["", "Does the stitch hold? (physics, not a code check: the yarn against EA s, the pressure "
+                "of its legs on the fabric)", ""] + verdicts
     out += ["", "Orientation of the layers' segments (length-weighted deviation from the nominal angle, "
             "mean / SD in degrees; generated with sampled SD " + ", ".join(f"{x:g}" for x in sigmas) +
             " deg) and how far the layers moved in the plane since the end of stage 1 (centroid / RMS "
