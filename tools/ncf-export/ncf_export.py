@@ -30,8 +30,8 @@ class ExportError(Exception):
 _LENGTH = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "micron": 1e-6}
 
 
-def length(text, opt):
-    """'40um', '0.04 mm', '4e-5' (metres) -> metres."""
+def length(text, opt, signed=False):
+    """'40um', '0.04 mm', '4e-5' (metres) -> metres; > 0 unless signed."""
     m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-z]*)\s*", text)
     if not m:
         raise ExportError("ncf-export: option %s: value '%s' is not a length (e.g. 40um, 0.04mm, 4e-5)"
@@ -44,7 +44,7 @@ def length(text, opt):
     if u not in _LENGTH:
         raise ExportError("ncf-export: option %s: value '%s': unknown unit '%s' (m, mm, um)" % (opt, text, u))
     v *= _LENGTH[u]
-    if not (v > 0) or not math.isfinite(v):
+    if not math.isfinite(v) or (not signed and not (v > 0)):
         raise ExportError("ncf-export: option %s: value '%s' must be > 0" % (opt, text))
     return v
 
@@ -65,7 +65,8 @@ class Kind:
 def read_summary(path):
     """Layers (type i = layer i, bottom first) and the yarn (last type) from PREFIX.summary."""
     try:
-        lines = open(path, encoding="utf-8", errors="replace").read().splitlines()
+        with open(path, encoding="utf-8", errors="replace") as f:
+            lines = f.read().splitlines()
     except OSError as e:
         raise ExportError("ncf-export: cannot read the summary %s: %s" % (path, e.strerror or e))
     layers, yarn, cur = [], None, None
@@ -125,7 +126,8 @@ def _is_number(tok):
 def read_data(path):
     """LAMMPS data file, atom_style bond or angle (columns id mol type x y z [ix iy iz])."""
     try:
-        lines = open(path, encoding="utf-8", errors="replace").read().splitlines()
+        with open(path, encoding="utf-8", errors="replace") as f:
+            lines = f.read().splitlines()
     except OSError as e:
         raise ExportError("ncf-export: cannot read %s: %s" % (path, e.strerror or e))
     d = Data()
@@ -314,17 +316,21 @@ def write_vtu(d, kinds, path, quiet):
     src = np.concatenate([np.arange(len(out)), b[extra]])    # atom of each point
     second = b.copy()
     second[extra] = len(out) + np.arange(len(extra))
-    # tangent per atom: mean of its bonds' unit vectors (oriented by ID order)
-    tan = np.zeros((len(out), 3))
+    # tangent per atom: the axis of its bonds (principal direction of the sum of u u^T over its
+    # bonds, so that the order of a bond's two atoms in the file does not matter)
+    T = np.zeros((len(out), 3, 3))
     if M:
         v = ends[:, 1] - ends[:, 0]
         ln = np.linalg.norm(v, axis=1)
         u = v / np.where(ln > 0, ln, 1)[:, None]
-        sgn = np.where(d.ids[a] < d.ids[b], 1.0, -1.0)[:, None]
-        np.add.at(tan, a, u * sgn)
-        np.add.at(tan, b, u * sgn)
-    tn = np.linalg.norm(tan, axis=1)
-    tan /= np.where(tn > 0, tn, 1)[:, None]
+        uu = u[:, :, None] * u[:, None, :]
+        np.add.at(T, a, uu)
+        np.add.at(T, b, uu)
+    _, ev = np.linalg.eigh(T)
+    tan = ev[:, :, 2]
+    big = np.argmax(np.abs(tan), axis=1)
+    tan *= np.sign(tan[np.arange(len(tan)), big])[:, None]
+    tan[np.trace(T, axis1=1, axis2=2) == 0] = 0.0
     radius = np.array([kinds[t][1].d / 2 for t in d.type])
     pts = vtk.vtkPoints()
     pts.SetData(ns.numpy_to_vtk(np.ascontiguousarray(P), deep=1))
@@ -544,8 +550,9 @@ def parse_args(argv):
     p.add_argument("--voxel", help="largest voxel edge, e.g. 40um (the cells tile the box exactly)")
     p.add_argument("--subsample", type=int, default=4,
                    help="sub-points per voxel edge for the volume fractions (default 4: 64 per voxel)")
-    p.add_argument("--z-range", nargs=2, metavar=("ZLO", "ZHI"),
-                   help="z extent of the grid (default: the chains' extent, lowest to highest surface)")
+    p.add_argument("--z-range", metavar="ZLO,ZHI",
+                   help="z extent of the grid, e.g. --z-range=-0.1mm,0.9mm (default: the chains' "
+                        "extent, lowest to highest chain surface)")
     p.add_argument("-q", "--quiet", action="store_true")
     return p.parse_args(argv)
 
@@ -575,10 +582,12 @@ def main(argv=None):
                                   % (a.voxel, box * 1e3))
             zr = None
             if a.z_range:
-                zr = (length(a.z_range[0], "--z-range") if not a.z_range[0].startswith("-") else
-                      -length(a.z_range[0][1:], "--z-range"), length(a.z_range[1], "--z-range"))
+                w = a.z_range.split(",")
+                if len(w) != 2:
+                    raise ExportError("ncf-export: option --z-range: value '%s': expected ZLO,ZHI" % a.z_range)
+                zr = tuple(length(x, "--z-range", signed=True) for x in w)
                 if zr[1] <= zr[0]:
-                    raise ExportError("ncf-export: option --z-range: %s %s is empty" % tuple(a.z_range))
+                    raise ExportError("ncf-export: option --z-range: value '%s' is empty" % a.z_range)
             write_vti(d, kinds, nlayers, h, a.subsample, a.vti, a.vtk, zr, a.quiet)
     except ExportError as e:
         print(str(e), file=sys.stderr)

@@ -207,11 +207,22 @@ def main(argv=None):
                      ", filament radius %.4g m (%s)" % (rf, "option" if a.fibre_radius else "grid field")
                      if rf else ""))
             sys.stdout.flush()
-            rc = subprocess.call(cmd)
+            # the solver's lines pass through as they come, except the tensor, which stays the last
+            # three lines of the output (after the note on the flux file)
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
+            held = []
+            for line in proc.stdout:
+                if held or line.startswith("ncf-perm: permeability tensor"):
+                    held.append(line)
+                else:
+                    sys.stdout.write(line)
+                    sys.stdout.flush()
+            rc = proc.wait()
             if rc == 1:
                 return 1
             if a.flux_out and os.path.exists(fields):
                 write_fluxes(img, n, where, fields, a.flux_out)
+            sys.stdout.write("".join(held))
             return rc
     except PermError as e:
         print(str(e), file=sys.stderr)
