@@ -99,7 +99,7 @@ TEST(PermSolver, PlanePoiseuille)
     const double err = std::fabs(r.K[0][0] / exact - 1);
     SCOPED_TRACE("voxels per gap " + std::to_string(gap * n));
     EXPECT_NEAR(r.K[1][1], r.K[0][0], 1e-9 * exact);    // the same along y
-    EXPECT_LT(std::fabs(r.K[2][2]), 1e-3 * exact);       // blocked across the walls
+    EXPECT_LT(std::fabs(r.K[2][2]), 1e-3 * exact);      // blocked across the walls
     if (n >= 32) EXPECT_LT(err, 0.01);
     if (n >= 64) EXPECT_LT(err, err_prev * 1.01 + 1e-3);
     err_prev = err;
