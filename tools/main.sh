@@ -109,6 +109,8 @@ bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
   echo
   echo "![stretch](chain-network/stress_strain.png)"
 } > "$out/report.md"
+echo "[ncf-main] exports (VTU, VTI) and permeability of the released fabrics (ncf-export, ncf-perm) -> $out/manufacturing"
+{ echo; echo "## 5. The released fabrics exported, and their permeability"; echo; for f in ncf45 ncf090; do bash "$root/examples/manufacturing/export_perm.sh" "$out/manufacturing/$f" || echo "WARNING: export or permeability of $f failed"; done; } >> "$out/report.md"
 
 echo
 echo "[ncf-main] done. Report: $out/report.md"

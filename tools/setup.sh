@@ -52,7 +52,8 @@ die() {
 # ---------------------------------------------------------------- 1. Debian packages
 deb_packages=(build-essential cmake ninja-build git xz-utils ca-certificates pkg-config
   libopenmpi-dev openmpi-bin libfftw3-dev libeigen3-dev libgtest-dev libgmock-dev
-  libyaml-dev libjpeg-dev libpng-dev zlib1g-dev python3 python3-numpy python3-scipy python3-matplotlib)
+  libyaml-dev libjpeg-dev libpng-dev zlib1g-dev python3 python3-numpy python3-scipy python3-matplotlib
+  python3-vtk9 python3-meshio)
 
 missing=()
 for p in "${deb_packages[@]}"; do

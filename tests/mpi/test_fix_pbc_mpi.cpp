@@ -5,36 +5,36 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 using namespace ncftest;
 
-TEST(FixPBCMPI, SameTrajectoryOn124Ranks)
+namespace {
+void same_on_ranks(const char *dir, unsigned seed, const std::string &keywords, const char *what)
 {
   ASSERT_GE(world_size(), 4) << "run this test with mpirun -np 4";
-  auto runs = mat_on_1_2_4_ranks(scratch_dir("mpi_pbc"), 21, R"(
+  auto runs = mat_on_1_2_4_ranks(scratch_dir(dir), seed,
+                                 R"(
 change_box all triclinic
 velocity all create 5e12 5 loop geom
 fix nve all nve
 fix deform all deform 1 x erate 500 xy erate 1000 remap x
-fix pbc ends ncf/pbc faces x
+fix pbc ends ncf/pbc faces x )" + keywords +
+                                     R"(
 timestep 5e-9
 run 2000
 )",
                                  "");
-  expect_same_on_ranks(runs, 1e-7, 1e-12 * MAT_LX, "fix ncf/pbc with box deformation");
+  expect_same_on_ranks(runs, 1e-7, 1e-12 * MAT_LX, what);
+}
+}    // namespace
+
+TEST(FixPBCMPI, SameTrajectoryOn124Ranks)
+{
+  same_on_ranks("mpi_pbc", 21, "", "fix ncf/pbc with box deformation");
 }
 
 TEST(FixPBCMPI, NormalHoldSameTrajectoryOn124Ranks)
 {
-  ASSERT_GE(world_size(), 4) << "run this test with mpirun -np 4";
-  auto runs = mat_on_1_2_4_ranks(scratch_dir("mpi_pbc_hold"), 22, R"(
-change_box all triclinic
-velocity all create 5e12 5 loop geom
-fix nve all nve
-fix deform all deform 1 x erate 500 xy erate 1000 remap x
-fix pbc ends ncf/pbc faces x normal hold
-timestep 5e-9
-run 2000
-)",
-                                 "");
-  expect_same_on_ranks(runs, 1e-7, 1e-12 * MAT_LX, "fix ncf/pbc normal hold with box deformation");
+  same_on_ranks("mpi_pbc_hold", 22, "normal hold", "fix ncf/pbc normal hold with box deformation");
 }
