@@ -373,7 +373,8 @@ std::string summary_text(const Fabric &f)
            fmt(", %.5g N", y.chain.ea));
   line("yarns, nodes, bonds",
        std::to_string(y.yarns) + ", " + std::to_string(y.nodes) + ", " + std::to_string(y.bonds));
-  if (c.bending) line("bending", "none (a 5-8 tex yarn's bending rigidity is negligible)");
+  if (c.bending)
+    line("bending", "none (its tension sets its shape: bending length sqrt(EI/T) < d_y)");
   line("path length per yarn", fmt("%.4f mm", y.length_per_yarn * 1e3));
   line("yarn areal weight", fmt("%.3f g/m^2", y.areal_weight * 1e3));
   line("loops on / underlaps on",
