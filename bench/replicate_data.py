@@ -12,6 +12,7 @@ Usage: replicate_data.py IN.data OUT.data R [--needles IN OUT]
 """
 import argparse
 import math
+import sys
 
 p = argparse.ArgumentParser()
 p.add_argument("src")
@@ -35,6 +36,14 @@ for ln in lines:
         header.append(ln)
     elif ln.strip():
         sections[cur][1].append(ln)
+
+# the angles of a 'bending bundle' state are not replicated (their section would be read as part
+# of the one before it): refuse rather than write a wrong file
+for ln in header + [ln for ln in lines if ln.startswith("Angles")]:
+    w = ln.split()
+    if (len(w) == 2 and w[1] == "angles" and int(w[0]) > 0) or (w and w[0] == "Angles"):
+        sys.exit(f"replicate_data.py: {a.src} has angles (ncf-gen 'bending bundle'); only states "
+                 "without angles can be replicated")
 
 box = {}
 for ln in header:

@@ -145,6 +145,8 @@ ChainProperties filament_chain(const Material &m, double chain_diameter, double 
       packing * chain_diameter * chain_diameter / (m.filament_diameter * m.filament_diameter);
   c.modulus = packing * m.modulus;
   c.density = packing * m.density;
+  const double df2 = m.filament_diameter * m.filament_diameter;
+  c.bundle_ei = c.filaments * m.modulus * PI * df2 * df2 / 64.0;
   finish(c);
   return c;
 }

@@ -47,6 +47,10 @@ struct ChainProperties {
   double ea = 0.0;                 // axial rigidity E_c A_c [N]
   double mass_per_length = 0.0;    // rho_c A_c [kg/m]
   double wave_speed = 0.0;         // sqrt(E_c / rho_c) [m/s]
+  // bending rigidity of the chain as a bundle of n_f unbonded filaments, each bending about its
+  // own axis: EI = n_f E_f pi d_f^4 / 64 [N m^2] (filaments only; 0 for a yarn chain). The
+  // chains are stretch-only rods; this is only used where a card asks for 'bending bundle'.
+  double bundle_ei = 0.0;
 };
 
 class MaterialLibrary {

@@ -167,8 +167,9 @@ Data read_data_file(const std::string &path)
       d.atoms = std::atol(line.c_str());
     if (line.find(" bonds") != std::string::npos && section.empty())
       d.bonds = std::atol(line.c_str());
+    // (the Angles of a 'bending bundle' card are a section of their own, not read here)
     if (line.rfind("Atoms", 0) == 0 || line == "Bonds" || line == "NCF_NODE" || line == "Masses" ||
-        line == "NCF_CHAIN_L0") {
+        line == "NCF_CHAIN_L0" || line == "Angles") {
       section = line.substr(0, 5);
       continue;
     }

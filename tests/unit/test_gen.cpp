@@ -19,6 +19,7 @@
 
 using namespace NCFGEN;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -977,5 +978,124 @@ TEST(GenKnit, RunningStitchOnRequestAndBadPathRefused)
     ADD_FAILURE() << "yarn_path lock accepted";
   } catch (InputError &e) {
     EXPECT_THAT(e.what(), HasSubstr("key 'yarn_path': value 'lock' must be 'knit' or 'running'"));
+  }
+}
+
+// ------------------------------------------------------------------ bending (opt-in)
+
+// 'bending bundle': one angle per pair of consecutive bonds of every fibre chain (none for the
+// yarn), angle_style cosine with K = EI / l0_mean per layer, EI = n_f E_f pi d_f^4 / 64 of the
+// chain's unbonded filaments, computed here from the materials file and the card's values
+TEST(GenBending, AnglesPerChainAndStiffnessFromTheCardsMaterials)
+{
+  const std::string body = layer(0, 150, 1, CT24) + layer(90, 120, 2, CT50) + STITCH_TRICOT;
+  const Fabric f = build(card_text(body + "bending bundle\n"));
+  const NCF::MaterialLibrary lib = materials();
+  ASSERT_EQ(f.layers.size(), 2u);
+  const double pi = 3.14159265358979323846, dc = 69e-6, phi = 0.5;
+  // the chain each node belongs to and the bonds of the part, to check every angle
+  std::map<std::pair<int, int>, int> bond_type;
+  for (const Bond &b : f.fibres.bonds) bond_type[{std::min(b.i, b.j), std::max(b.i, b.j)}] = b.type;
+  std::map<int, int> angles_of_type;
+  for (const Angle &a : f.fibres.angles) {
+    angles_of_type[a.type]++;
+    const auto b1 = bond_type.find({std::min(a.i, a.j), std::max(a.i, a.j)});
+    const auto b2 = bond_type.find({std::min(a.j, a.k), std::max(a.j, a.k)});
+    ASSERT_TRUE(b1 != bond_type.end() && b2 != bond_type.end())
+        << "angle " << a.i << "-" << a.j << "-" << a.k << " is not two bonds of a chain";
+    EXPECT_EQ(b1->second, a.type);
+    EXPECT_EQ(b2->second, a.type);
+    EXPECT_NE(a.i, a.k);
+    EXPECT_EQ(f.fibres.nodes[a.i].chain, f.fibres.nodes[a.k].chain);
+  }
+  EXPECT_TRUE(f.stitch.angles.empty()) << "the stitching yarn gets no angles";
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < f.layers.size(); i++) {
+    const LayerInfo &L = f.layers[i];
+    const int type = (int) i + 1;
+    // counts: a chain of n nodes has n - 1 bonds and n - 2 angles
+    EXPECT_EQ(angles_of_type[type], L.bonds - L.chains) << "layer " << type;
+    EXPECT_EQ(L.bending_angles, L.bonds - L.chains);
+    total += L.bonds - L.chains;
+    // K from the material, independently of the generator's chain properties
+    const NCF::Material &m = lib.get(L.spec.material);
+    const double nf = phi * dc * dc / (m.filament_diameter * m.filament_diameter);
+    const double ei = nf * m.modulus * pi * std::pow(m.filament_diameter, 4) / 64.0;
+    double sum = 0.0;
+    int nb = 0;
+    for (const Bond &b : f.fibres.bonds)
+      if (b.type == type) {
+        sum += b.l0;
+        nb++;
+      }
+    ASSERT_EQ(nb, L.bonds);
+    EXPECT_NEAR(L.chain.bundle_ei / ei, 1.0, 1e-12) << "layer " << type;
+    EXPECT_NEAR(L.bending_k / (ei / (sum / nb)), 1.0, 1e-12) << "layer " << type;
+  }
+  EXPECT_EQ(f.fibres.angles.size(), total);
+  // the number: 49 filaments of 7 um at 255 GPa give 1.46e-9 N m^2
+  EXPECT_NEAR(f.layers[1].chain.bundle_ei, 1.46e-9, 0.005e-9);
+  EXPECT_GT(f.layers[0].chain.bundle_ei, 0.0);
+  EXPECT_NE(f.layers[0].bending_k, f.layers[1].bending_k) << "each layer its own material";
+
+  // the files: atom_style angle with an Angles section, angle_style cosine with K per layer
+  const std::string data = layers_data(f);
+  EXPECT_THAT(data, HasSubstr("\n" + std::to_string(total) + " angles\n2 angle types\n"));
+  EXPECT_THAT(data, HasSubstr("Atoms # angle\n"));
+  const auto at_angles = data.find("\nAngles\n\n");
+  ASSERT_NE(at_angles, std::string::npos);
+  std::istringstream in(data.substr(at_angles + 9));
+  std::string row;
+  std::size_t rows = 0;
+  while (std::getline(in, row) && !row.empty()) rows++;
+  EXPECT_EQ(rows, total);
+  EXPECT_THAT(yarn_data(f), Not(HasSubstr("angle")));
+  const std::string settings = settings_text(f, "t");
+  EXPECT_THAT(settings, HasSubstr("angle_style cosine\n"));
+  for (int type = 1; type <= 2; type++) {
+    const std::string key = "angle_coeff " + std::to_string(type) + " ";
+    const auto pos = settings.find(key);
+    ASSERT_NE(pos, std::string::npos);
+    EXPECT_NEAR(std::stod(settings.substr(pos + key.size())) / f.layers[type - 1].bending_k, 1.0,
+                1e-15);
+  }
+  const std::string summary = summary_text(f);
+  EXPECT_THAT(summary, HasSubstr("bundle: EI 1.46e-09 N m^2"));
+}
+
+TEST(GenBending, NoneIsTheDefaultAndChangesNoFile)
+{
+  const std::string body = layer(0, 150, 1, CT24) + STITCH_TRICOT;
+  const Fabric f0 = build(card_text(body));
+  const Fabric f1 = build(card_text(body + "bending none\n"));
+  EXPECT_FALSE(f0.card.bending);
+  EXPECT_TRUE(f0.fibres.angles.empty());
+  EXPECT_EQ(f0.layers[0].bending_angles, 0);
+  EXPECT_EQ(layers_data(f0), layers_data(f1));
+  EXPECT_EQ(settings_text(f0, "t"), settings_text(f1, "t"));
+  EXPECT_THAT(layers_data(f0), Not(HasSubstr("ngle")));
+  EXPECT_THAT(layers_data(f0), HasSubstr("Atoms # bond\n"));
+  EXPECT_THAT(settings_text(f0, "t"), Not(HasSubstr("angle_")));
+  EXPECT_THAT(summary_text(f0), HasSubstr("none (stretch-only chains)"));
+  // bundle changes the layers' file, not the yarn's nor the positions
+  const Fabric f2 = build(card_text(body + "bending bundle\n"));
+  EXPECT_EQ(yarn_data(f0), yarn_data(f2));
+  ASSERT_EQ(f0.fibres.nodes.size(), f2.fibres.nodes.size());
+  for (std::size_t i = 0; i < f0.fibres.nodes.size(); i++)
+    for (int d = 0; d < 3; d++) ASSERT_EQ(f0.fibres.nodes[i].x[d], f2.fibres.nodes[i].x[d]);
+}
+
+TEST(GenBending, BadValuesNameTheKeyAndTheValue)
+{
+  const std::string body = layer(0, 150, 1, CT24) + STITCH_TRICOT;
+  for (const char *bad : {"yes", "Bundle", "1"}) {
+    try {
+      build(card_text(body + "bending " + bad + "\n"));
+      ADD_FAILURE() << "bending " << bad << " was accepted";
+    } catch (const InputError &e) {
+      EXPECT_THAT(e.what(), HasSubstr("key 'bending': value '" + std::string(bad) + "'"));
+      EXPECT_THAT(e.what(), HasSubstr("'none'"));
+      EXPECT_THAT(e.what(), HasSubstr("'bundle'"));
+    }
   }
 }

@@ -193,6 +193,32 @@ class Orientation(unittest.TestCase):
             self.assertAlmostEqual(s, math.sqrt((3 * 7.5 ** 2 + 22.5 ** 2) / 4), places=9)
             self.assertAlmostEqual(float(np.sum(w)), 4 * MM, places=12)
 
+    def test_atom_style_angle_reads_as_bond(self):
+        """A 'bending bundle' layer (atom_style angle: 'Atoms # angle', an Angles section and
+        angle counts in the header) measures as the same layer written as atom_style bond."""
+        with tmpdir() as tmp:
+            box = (10 * MM, 10 * MM, -1 * MM, 1 * MM)
+            c1 = straight(1 * MM, 1 * MM, 4 * MM, 2 * MM, 0.0, step=0.07 * MM)
+            c2 = straight(2 * MM, 6 * MM, 7 * MM, 5 * MM, 0.0, step=0.13 * MM)
+            pb, pa = os.path.join(tmp, "b.data"), os.path.join(tmp, "a.data")
+            write_data(pb, box, [Chain(c1, 1), Chain(c2, 1)], 2)
+            write_data(pa, box, [Chain(c1, 1), Chain(c2, 1)], 2, style_comment="angle")
+            text = open(pa).read()
+            n1, n2 = len(c1), len(c2)
+            angles = ["%d 1 %d %d %d" % (k + 1, t - 1, t, t + 1) for k, t in
+                      enumerate(list(range(2, n1)) + list(range(n1 + 2, n1 + n2)))]
+            text = text.replace("bond types\n", "bond types\n%d angles\n1 angle types\n"
+                                % len(angles))
+            text = text.replace("\nNCF_NODE\n", "\nAngles\n\n" + "\n".join(angles) +
+                                "\n\nNCF_NODE\n")
+            open(pa, "w").write(text)
+            a, b = M.read_data(pa), M.read_data(pb)
+            np.testing.assert_array_equal(a.pos, b.pos)
+            np.testing.assert_array_equal(a.bonds, b.bonds)
+            self.assertEqual(len(a.bonds), n1 + n2 - 2)
+            np.testing.assert_array_equal(M.layer_orientation(a, 1, 0.0)[0],
+                                          M.layer_orientation(b, 1, 0.0)[0])
+
     def test_wrap_past_90_and_reversed_chain(self):
         """A 90 deg layer: a chain at -85 deg (= 95 deg as an axis) deviates by +5 deg, a chain
         at 84 deg written backwards by -6 deg; nothing lands near +-180."""

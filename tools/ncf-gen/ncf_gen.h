@@ -100,6 +100,10 @@ struct Card {
   double needle_diameter = 0.6e-3;    // needle shaft diameter [m]
   double needle_tip = 0.6e-3;         // length of the needle's conical point [m]
   double pretension = 0.16;           // shrink of the yarn's rest length in stage 4 [-]
+  // chain bending (key 'bending'): none (the default: stretch-only chains, no angle terms) or
+  // bundle (an angle per pair of consecutive bonds of every fibre chain, angle_style cosine with
+  // K = EI / l0_mean, EI of the chain's n_f unbonded filaments; the stitching yarn gets none)
+  bool bending = false;
   // the quality preset (no 'quality' key: standard); chain_diameter, fibre_mesh and yarn_mesh
   // above hold its values unless the card gives them (key_line tells which)
   std::string quality = "standard";
@@ -132,9 +136,15 @@ struct Bond {
   double l0 = 0.0;    // reference length = initial length [m]
 };
 
+struct Angle {                // i - j - k: two consecutive bonds of a chain, j the middle node
+  int i = 0, j = 0, k = 0;    // node indices (0-based) within the same node list
+  int type = 1;
+};
+
 struct Part {    // one data file's worth of nodes and bonds
   std::vector<Node> nodes;
   std::vector<Bond> bonds;
+  std::vector<Angle> angles;       // only with 'bending bundle' (fibre chains)
   std::vector<double> diameter;    // contact diameter of each chain (index chain-1)
 };
 
@@ -156,7 +166,12 @@ struct LayerInfo {
   std::vector<double> angles;                  // chain angles [deg]
   double node_mass = 0.0;                      // lumped, mass scaling included [kg]
   double min_l0 = 0.0, max_l0 = 0.0;
+  double mean_l0 = 0.0;    // mean element length of the layer [m]
   double dt_crit = 0.0;    // min L0 sqrt(rho_c ms / E_c) [s]
+  // 'bending bundle': angles of the layer (bonds - chains), angle_style cosine's K = EI / mean_l0
+  // with EI = chain.bundle_ei [J]; 0 with 'bending none'
+  int bending_angles = 0;
+  double bending_k = 0.0;
 };
 
 struct YarnInfo {

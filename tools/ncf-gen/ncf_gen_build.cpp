@@ -428,6 +428,7 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
     info.min_l0 = 1e300;
     info.max_l0 = 0.0;
     const int first_node = (int) f.fibres.nodes.size();
+    double sum_l0 = 0.0;
     for (int k = 0; k < n; k++) {
       ++chain_id;
       f.fibres.diameter.push_back(dc);
@@ -454,14 +455,30 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
                            (q[2] - p[2]) * (q[2] - p[2]));
           info.min_l0 = std::min(info.min_l0, b.l0);
           info.max_l0 = std::max(info.max_l0, b.l0);
+          sum_l0 += b.l0;
           f.fibres.bonds.push_back(b);
           info.bonds++;
+        }
+        // bending: one angle per pair of consecutive bonds of the chain (none across the RVE
+        // faces: the chain's ends there are tied by fix ncf/pbc, not bonded)
+        if (card.bending && j > 1) {
+          Angle a;
+          a.i = start + j - 2;
+          a.j = start + j - 1;
+          a.k = start + j;
+          a.type = layer;
+          f.fibres.angles.push_back(a);
+          info.bending_angles++;
         }
       }
       info.z_min = std::min(info.z_min, lines[k].z);
       info.z_max = std::max(info.z_max, lines[k].z);
     }
     info.nodes = (int) f.fibres.nodes.size() - first_node;
+    info.mean_l0 = info.bonds ? sum_l0 / info.bonds : 0.0;
+    // angle_style cosine, E = K (1 + cos theta) ~ K phi^2 / 2 for a kink phi = pi - theta: for a
+    // chain of elements l0 this is the discrete Euler-Bernoulli beam with EI = K l0
+    if (card.bending) info.bending_k = info.chain.bundle_ei / info.mean_l0;
     info.stack = info.z_max - info.z_min + dc;
     info.node_mass = card.mass_scaling * mass / info.nodes;
     info.dt_crit =

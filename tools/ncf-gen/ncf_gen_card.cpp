@@ -246,7 +246,8 @@ Card parse_card(const std::string &text, const std::string &path)
                                                          {"pretension", NONE},
                                                          {"quality", NONE},
                                                          {"yarn_packing", NONE},
-                                                         {"yarn_path", NONE}};
+                                                         {"yarn_path", NONE},
+                                                         {"bending", NONE}};
 
   while (std::getline(in, raw)) {
     ++lineno;
@@ -376,6 +377,16 @@ Card parse_card(const std::string &text, const std::string &path)
         card.knit = false;
       else
         fail(where, "key 'yarn_path': value '" + val + "' must be 'knit' or 'running'");
+    } else if (key == "bending") {
+      if (val == "none")
+        card.bending = false;
+      else if (val == "bundle")
+        card.bending = true;
+      else
+        fail(where,
+             "key 'bending': value '" + val +
+                 "' must be 'none' (stretch-only chains) or 'bundle' (the bending rigidity of "
+                 "the chain's unbonded filaments)");
     } else if (key == "yarn_packing") {
       card.yarn_packing = positive(key);
       if (card.yarn_packing > 1.0)

@@ -54,14 +54,23 @@ namespace {
   std::string data_file(const Fabric &f, const Part &part, const std::string &what)
   {
     const int ntypes = f.atom_types();
+    // 'bending bundle': the fibre chains' angles (atom_style angle; one angle type per layer,
+    // the yarn has none); without angles the file is atom_style bond as it always was
+    const bool angles = !part.angles.empty();
+    const std::string style = angles ? "angle" : "bond";
     std::string s;
     s += "LAMMPS data file: ncf-gen " + what + " of '" + f.card.name + "' (seed " +
         std::to_string(f.card.seed) + ", RVE " + std::to_string(f.card.r_w) + "x" +
-        std::to_string(f.card.r_l) + "), units si, atom_style bond\n\n";
+        std::to_string(f.card.r_l) + "), units si, atom_style " + style + "\n\n";
     s += std::to_string(part.nodes.size()) + " atoms\n";
     s += std::to_string(ntypes) + " atom types\n";
     s += std::to_string(part.bonds.size()) + " bonds\n";
-    s += std::to_string(ntypes) + " bond types\n\n";
+    s += std::to_string(ntypes) + " bond types\n";
+    if (angles) {
+      s += std::to_string(part.angles.size()) + " angles\n";
+      s += std::to_string(f.layers.size()) + " angle types\n";
+    }
+    s += "\n";
     s += "0 " + g(f.lx) + " xlo xhi\n";
     s += "0 " + g(f.ly) + " ylo yhi\n";
     s += g(f.zlo) + " " + g(f.zhi) + " zlo zhi\n\n";
@@ -70,7 +79,7 @@ namespace {
       s += std::to_string(i + 1) + " " + g(f.layers[i].node_mass) + "  # layer " +
           std::to_string(i + 1) + "\n";
     s += std::to_string(f.yarn_type()) + " " + g(f.yarn.node_mass) + "  # stitching yarn\n\n";
-    s += "Atoms # bond\n\n";
+    s += "Atoms # " + style + "\n\n";
     for (std::size_t i = 0; i < part.nodes.size(); i++) {
       const Node &n = part.nodes[i];
       double x, y;
@@ -86,6 +95,15 @@ namespace {
       const Bond &bd = part.bonds[b];
       s += std::to_string(b + 1) + " " + std::to_string(bd.type) + " " + std::to_string(bd.i + 1) +
           " " + std::to_string(bd.j + 1) + "\n";
+    }
+    if (angles) {
+      s += "\nAngles\n\n";
+      for (std::size_t a = 0; a < part.angles.size(); a++) {
+        const Angle &an = part.angles[a];
+        s += std::to_string(a + 1) + " " + std::to_string(an.type) + " " +
+            std::to_string(an.i + 1) + " " + std::to_string(an.j + 1) + " " +
+            std::to_string(an.k + 1) + "\n";
+      }
     }
     // per-atom reference lengths: partner tag - own tag and L0, two slots (doc/ARCHITECTURE.md)
     std::vector<int> dt(2 * part.nodes.size(), 0);
@@ -139,7 +157,8 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   s += "# ncf-gen settings of '" + f.card.name + "' (card " + f.card.path + ", seed " +
       std::to_string(f.card.seed) + ").\n";
   s += "# Include after:\n";
-  s += "#   units si\n#   atom_style bond\n#   boundary p p f\n#   bond_style ncf/chain\n";
+  s += "#   units si\n#   atom_style " + std::string(f.card.bending ? "angle" : "bond") +
+      "\n#   boundary p p f\n#   bond_style ncf/chain\n";
   s += "#   fix NCF_NODE all property/atom i_ncf_layer i_ncf_end ghost yes\n";
   s += "#   read_data " + prefix +
       ".layers.data fix NCF_CHAIN_L0 NULL NCF_CHAIN_L0 fix NCF_NODE NULL NCF_NODE\n";
@@ -203,6 +222,19 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
   s += "bond_coeff " + std::to_string(yt) + " ea " + g(f.yarn.chain.ea) +
       "  # stitching yarn: E_c " + g(f.yarn.chain.modulus) + " Pa, d_c " +
       g(f.yarn.chain.diameter) + " m\n\n";
+  // 'bending bundle': the layers' chains resist bending with the rigidity EI of their unbonded
+  // filaments (angle_style cosine, E = K (1 + cos theta), K = EI / l0: the discrete
+  // Euler-Bernoulli beam); the stitching yarn has no angles
+  if (c.bending) {
+    s += "angle_style cosine\n";
+    for (int i = 0; i < nl; i++) {
+      const LayerInfo &L = f.layers[i];
+      s += "angle_coeff " + std::to_string(i + 1) + " " + g(L.bending_k) + "  # layer " +
+          std::to_string(i + 1) + ": K = EI / l0 [J], EI " + g(L.chain.bundle_ei) + " N m^2 (" +
+          g(L.chain.filaments) + " filaments), l0 " + g(L.mean_l0) + " m\n";
+    }
+    s += "\n";
+  }
   std::string all;
   for (int i = 0; i < nl; i++) {
     s += "group ncf_layer" + std::to_string(i + 1) + " type " + std::to_string(i + 1) + "\n";
@@ -320,6 +352,13 @@ std::string summary_text(const Fabric &f)
     line("chain centres z", fmt("%.4f", L.z_min * 1e3) + fmt(" .. %.4f mm", L.z_max * 1e3));
     line("chain angles: mean, sample std",
          fmt("%.4f deg", L.angle_mean) + fmt(", %.4f deg", L.angle_std));
+    line("bending",
+         c.bending ? fmt("bundle: EI %.4g N m^2", L.chain.bundle_ei) +
+                 fmt(" (%.2f unbonded filaments)", L.chain.filaments) +
+                 fmt(", K = EI / l0 = %.4g J", L.bending_k) +
+                 fmt(" (l0 %.5f mm), ", L.mean_l0 * 1e3) + std::to_string(L.bending_angles) +
+                 " angles (angle_style cosine)"
+                   : std::string("none (stretch-only chains)"));
     line("node mass (lumped, scaled)",
          fmt("%.5g kg", L.node_mass) + fmt("  (mass scaling %g)", c.mass_scaling));
     line("critical time step of the bonds", fmt("%.4g s", L.dt_crit));
@@ -334,6 +373,8 @@ std::string summary_text(const Fabric &f)
            fmt(", %.5g N", y.chain.ea));
   line("yarns, nodes, bonds",
        std::to_string(y.yarns) + ", " + std::to_string(y.nodes) + ", " + std::to_string(y.bonds));
+  if (c.bending)
+    line("bending", "none (its tension sets its shape: bending length sqrt(EI/T) < d_y)");
   line("path length per yarn", fmt("%.4f mm", y.length_per_yarn * 1e3));
   line("yarn areal weight", fmt("%.3f g/m^2", y.areal_weight * 1e3));
   line("loops on / underlaps on",

@@ -269,7 +269,8 @@ def _is_number(tok):
 
 
 def read_data(path):
-    """A LAMMPS data file of atom_style bond with the NCF_NODE section (write_data or ncf-gen)."""
+    """A LAMMPS data file of atom_style bond or angle with the NCF_NODE section (write_data or
+    ncf-gen)."""
     lines = _read_lines(path)
     d = Data(path)
     nat = None
@@ -324,8 +325,10 @@ def read_data(path):
         return sections[name]
 
     tl, rows, comment = need("Atoms")
-    if comment and comment.split()[0] != "bond":
-        raise MeasureError("%s:%d: section 'Atoms # %s': only atom_style bond can be read"
+    # atom_style angle (the stage scripts' style, the layers of 'bending bundle') has the
+    # columns of atom_style bond; its Angles section is not needed here
+    if comment and comment.split()[0] not in ("bond", "angle"):
+        raise MeasureError("%s:%d: section 'Atoms # %s': only atom_style bond or angle can be read"
                            % (path, tl, comment))
     if len(rows) != nat:
         raise MeasureError("%s:%d: section Atoms has %d lines, the header says %d atoms"
