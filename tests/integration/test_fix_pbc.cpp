@@ -278,29 +278,28 @@ TEST(FixPBC, WithoutVariabilityItIsOrdinaryPeriodicity)
   EXPECT_GT(max_abs_diff(xr, xr0), 1e-7);    // the chains moved
 }
 
+// (with normal hold too: the node holds' multipliers of the last step come from the file)
 TEST(FixPBC, RestartContinuesTheSameTrajectory)
 {
   auto dir = scratch_dir("pbc_restart");
   auto mat = write_mat(dir, 3.0, 14);
-  std::vector<double> straight;
-  {
-    Lammps l;
-    load_mat(l, mat);
-    l.cmds(R"(
-velocity all create 5e12 5 loop geom
-fix nve all nve
-fix pbc ends ncf/pbc faces x
-timestep 5e-9
-run 500
-)");
-    l.cmd("write_restart " + dir + "/half.restart");
-    l.cmd("run 500");
-    straight = l.positions();
+  for (const std::string normal : {"free", "hold"}) {
+    std::vector<double> straight;
+    {
+      Lammps l;
+      load_mat(l, mat);
+      l.cmds("velocity all create 5e12 5 loop geom\nfix nve all nve");
+      l.cmd("fix pbc ends ncf/pbc faces x normal " + normal);
+      l.cmds("timestep 5e-9\nrun 500");
+      l.cmd("write_restart " + dir + "/half.restart");
+      l.cmd("run 500");
+      straight = l.positions();
+    }
+    Lammps r;
+    r.cmd("read_restart " + dir + "/half.restart");
+    resume(r, 500, "normal " + normal);
+    EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0) << normal;
   }
-  Lammps r;
-  r.cmd("read_restart " + dir + "/half.restart");
-  resume(r, 500);
-  EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
 }
 
 // A fix defined after fix ncf/pbc in the same process (an indenter, a second plate) is moved
@@ -310,43 +309,44 @@ TEST(FixPBC, MovedByFromContinuesTheSameTrajectory)
 {
   auto dir = scratch_dir("pbc_from");
   auto mat = write_mat(dir, 3.0, 14);
-  auto start = [&](Lammps &l) {
-    load_mat(l, mat);
-    l.cmds(R"(
-velocity all create 5e12 5 loop geom
-fix nve all nve
-fix pbc ends ncf/pbc faces x
-timestep 5e-9
-run 500
-)");
-  };
-  std::vector<double> straight, moved, recaptured;
-  {
-    Lammps l;
-    start(l);
-    l.cmd("run 500");
-    straight = l.positions();
+  for (const std::string normal : {"free", "hold"}) {
+    auto start = [&](Lammps &l) {
+      load_mat(l, mat);
+      l.cmds("velocity all create 5e12 5 loop geom\nfix nve all nve");
+      l.cmd("fix pbc ends ncf/pbc faces x normal " + normal);
+      l.cmds("timestep 5e-9\nrun 500");
+    };
+    std::vector<double> straight, moved, recaptured;
+    {
+      Lammps l;
+      start(l);
+      l.cmd("run 500");
+      straight = l.positions();
+    }
+    {
+      Lammps l;
+      start(l);
+      // (the copies keep the original's normal mode without the keyword)
+      l.cmds("fix later all addforce 0 0 0\nfix pbc_moving ends ncf/pbc from pbc\nunfix pbc");
+      l.cmds("fix pbc ends ncf/pbc from pbc_moving\nunfix pbc_moving\nrun 500");
+      // the copy is the last fix that changes forces
+      auto fixes = l.lmp->modify->get_fix_list();
+      EXPECT_STREQ(fixes.back()->id, "pbc");
+      moved = l.positions();
+    }
+    {
+      Lammps l;
+      start(l);
+      l.cmd("unfix pbc");
+      l.cmd("fix pbc ends ncf/pbc faces x normal " + normal);
+      l.cmd("run 500");
+      recaptured = l.positions();
+    }
+    EXPECT_EQ(max_abs_diff(moved, straight), 0.0) << normal;
+    EXPECT_GT(max_abs_diff(recaptured, straight), 0.0) << normal;
+    std::printf("[measured] normal %s: moved by 'from': %.3g m; captured again: %.3g m\n",
+                normal.c_str(), max_abs_diff(moved, straight), max_abs_diff(recaptured, straight));
   }
-  {
-    Lammps l;
-    start(l);
-    l.cmds("fix later all addforce 0 0 0\nfix pbc_moving ends ncf/pbc from pbc\nunfix pbc");
-    l.cmds("fix pbc ends ncf/pbc from pbc_moving\nunfix pbc_moving\nrun 500");
-    // the copy is the last fix that changes forces
-    auto fixes = l.lmp->modify->get_fix_list();
-    EXPECT_STREQ(fixes.back()->id, "pbc");
-    moved = l.positions();
-  }
-  {
-    Lammps l;
-    start(l);
-    l.cmds("unfix pbc\nfix pbc ends ncf/pbc faces x\nrun 500");
-    recaptured = l.positions();
-  }
-  EXPECT_EQ(max_abs_diff(moved, straight), 0.0);
-  EXPECT_GT(max_abs_diff(recaptured, straight), 0.0);
-  std::printf("[measured] moved by 'from': %.3g m; captured again: %.3g m\n",
-              max_abs_diff(moved, straight), max_abs_diff(recaptured, straight));
 }
 
 // A restart file written after a box deformation (stretch and shear): the fix, defined again in
@@ -558,45 +558,6 @@ timestep 5e-9
     }
     EXPECT_GT(max_abs_diff(x, xref), 1e-7);
   }
-}
-
-// a run cut by a restart file, and the fix moved by 'from' (which keeps the hold), is the same run
-TEST(FixPBCNormalHold, RestartAndFromContinueTheSameTrajectory)
-{
-  auto dir = scratch_dir("pbc_normal_restart");
-  auto mat = write_mat(dir, 3.0, 33);
-  auto start = [&](Lammps &l) {
-    load_mat(l, mat);
-    l.cmds(R"(
-velocity all create 5e12 5 loop geom
-fix nve all nve
-fix pbc ends ncf/pbc faces x normal hold
-timestep 5e-9
-run 500
-)");
-  };
-  std::vector<double> straight, moved;
-  {
-    Lammps l;
-    start(l);
-    l.cmd("write_restart " + dir + "/half.restart");
-    l.cmd("run 500");
-    straight = l.positions();
-  }
-  {
-    Lammps l;
-    start(l);
-    l.cmds("fix later all addforce 0 0 0\nfix pbc_moving ends ncf/pbc from pbc\nunfix pbc");
-    l.cmds("fix pbc ends ncf/pbc from pbc_moving\nunfix pbc_moving\nrun 500");
-    moved = l.positions();
-  }
-  Lammps r;
-  r.cmd("read_restart " + dir + "/half.restart");
-  resume(r, 500, "normal hold");
-  std::printf("[measured] normal hold: restart %.3g m, from %.3g m\n",
-              max_abs_diff(r.positions(), straight), max_abs_diff(moved, straight));
-  EXPECT_EQ(max_abs_diff(r.positions(), straight), 0.0);
-  EXPECT_EQ(max_abs_diff(moved, straight), 0.0);
 }
 
 // A chain deflected between held ends: the mat without orientation variability (chains along x,
