@@ -22,6 +22,10 @@ import sys
 
 import numpy as np
 
+# the data-file reader is ncf-measure's (tools/ncf-measure/ncf_measure.py, beside this tool)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "ncf-measure"))
+import ncf_measure  # noqa: E402
+
 
 class ExportError(Exception):
     """Input the tool cannot export; the message names the file, line/option and value."""
@@ -111,139 +115,21 @@ def read_summary(path):
     return kinds, len(layers)
 
 
-class Data:
-    pass
-
-
-def _is_number(tok):
-    try:
-        float(tok)
-        return True
-    except ValueError:
-        return False
-
-
 def read_data(path):
-    """LAMMPS data file, atom_style bond or angle (columns id mol type x y z [ix iy iz])."""
+    """LAMMPS data file, atom_style bond or angle (columns id mol type x y z [ix iy iz]), with or
+    without the NCF_NODE section: ncf-measure's reader (one reader of the package's data files)."""
     try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            lines = f.read().splitlines()
-    except OSError as e:
-        raise ExportError("ncf-export: cannot read %s: %s" % (path, e.strerror or e))
-    d = Data()
-    d.path = path
-    d.lo, d.hi = np.zeros(3), np.zeros(3)
-    nat, seen_box = None, set()
-    i = 1
-    while i < len(lines):
-        s = lines[i].split("#", 1)[0].split()
-        if s and not _is_number(s[0]):
-            break
-        if len(s) == 2 and s[1] == "atoms":
-            nat = int(s[0])
-        if len(s) == 4 and s[2] in ("xlo", "ylo", "zlo"):
-            ax = "xyz".index(s[2][0])
-            d.lo[ax], d.hi[ax] = float(s[0]), float(s[1])
-            seen_box.add(ax)
-        if len(s) == 6 and s[3:] == ["xy", "xz", "yz"] and any(float(t) != 0 for t in s[:3]):
-            raise ExportError("ncf-export: %s:%d: triclinic box (xy xz yz = %s): only orthogonal boxes"
-                              % (path, i + 1, " ".join(s[:3])))
-        i += 1
-    if nat is None:
-        raise ExportError("ncf-export: %s: no 'N atoms' line in the header: not a LAMMPS data file" % path)
-    if len(seen_box) < 3 or np.any(d.hi <= d.lo):
-        raise ExportError("ncf-export: %s: the box (xlo xhi, ylo yhi, zlo zhi lines) is missing or empty" % path)
-    sections, title, start, comment = {}, None, 0, ""
-    body = []
-    for k in range(i, len(lines) + 1):
-        raw = lines[k] if k < len(lines) else None
-        w = raw.split("#", 1)[0].split() if raw is not None else None
-        if raw is None or (w and not _is_number(w[0])):
-            if title is not None:
-                sections[title] = (start, body, comment)
-            if raw is None:
-                break
-            title, start, body = " ".join(w), k + 1, []
-            comment = raw.split("#", 1)[1].strip() if "#" in raw else ""
-        elif w:
-            body.append((k + 1, w))
-    if "Atoms" not in sections:
-        raise ExportError("ncf-export: %s: no Atoms section" % path)
-    tl, rows, comment = sections["Atoms"]
-    style = comment.split()[0] if comment else ""
-    if style not in ("", "bond", "angle", "molecular"):
-        raise ExportError("ncf-export: %s:%d: section 'Atoms # %s': only atom_style bond or angle "
-                          "(id mol type x y z [ix iy iz]) can be read" % (path, tl, comment))
-    if len(rows) != nat:
-        raise ExportError("ncf-export: %s:%d: section Atoms has %d lines, the header says %d atoms"
-                          % (path, tl, len(rows), nat))
-    arr = np.zeros((nat, 6))
-    for k, (ln, w) in enumerate(rows):
-        if len(w) not in (6, 9):
-            raise ExportError("ncf-export: %s:%d: section Atoms: '%s': expected 'id mol type x y z "
-                              "[ix iy iz]' (atom_style bond or angle)" % (path, ln, " ".join(w)))
-        try:
-            arr[k] = [float(t) for t in w[:6]]
-        except ValueError:
-            raise ExportError("ncf-export: %s:%d: section Atoms: '%s' is not numeric" % (path, ln, " ".join(w)))
-    d.ids = arr[:, 0].astype(np.int64)
-    d.mol = arr[:, 1].astype(np.int64)
-    d.type = arr[:, 2].astype(np.int64)
-    d.pos = arr[:, 3:6].copy()
-    order = np.argsort(d.ids)
-    sid = d.ids[order]
-    if nat > 1 and np.any(sid[1:] == sid[:-1]):
-        raise ExportError("ncf-export: %s: section Atoms: atom id %d appears twice"
-                          % (path, sid[1:][sid[1:] == sid[:-1]][0]))
-
-    def index_of(tags, what, lns):
-        p = np.clip(np.searchsorted(sid, tags), 0, max(nat - 1, 0))
-        bad = sid[p] != tags
-        if np.any(bad):
-            k = int(np.nonzero(bad)[0][0])
-            raise ExportError("ncf-export: %s:%d: section %s: atom id %d is not in the Atoms section"
-                              % (path, lns[k], what, tags[k]))
-        return order[p]
-
-    if "Bonds" in sections and sections["Bonds"][1]:
-        rows = sections["Bonds"][1]
-        try:
-            b = np.array([[int(t) for t in w[:4]] for _, w in rows], dtype=np.int64)
-        except ValueError:
-            raise ExportError("ncf-export: %s:%d: section Bonds: lines must be 'id type atom1 atom2'"
-                              % (path, sections["Bonds"][0]))
-        if b.ndim != 2 or b.shape[1] != 4:
-            raise ExportError("ncf-export: %s:%d: section Bonds: lines must be 'id type atom1 atom2'"
-                              % (path, sections["Bonds"][0]))
-        lns = [ln for ln, _ in rows]
-        d.bonds = np.stack([index_of(b[:, 2], "Bonds", lns), index_of(b[:, 3], "Bonds", lns)], 1)
-    else:
-        d.bonds = np.zeros((0, 2), dtype=np.int64)
-    d.layer = None
-    if "NCF_NODE" in sections:
-        rows = sections["NCF_NODE"][1]
-        nn = np.array([[int(t) for t in w[:3]] for _, w in rows], dtype=np.int64).reshape(-1, 3)
-        idx = index_of(nn[:, 0], "NCF_NODE", [ln for ln, _ in rows])
-        d.layer = np.full(nat, -1, dtype=np.int64)
-        d.layer[idx] = nn[:, 1]
-    return d
+        return ncf_measure.read_data(path, need_nodes=False)
+    except ncf_measure.MeasureError as e:
+        raise ExportError("ncf-export: %s" % e)
 
 
 def append(d, o):
     """Append a second data file (the generator's yarn.data) to d."""
-    if not (np.allclose(d.lo[:2], o.lo[:2]) and np.allclose(d.hi[:2], o.hi[:2])):
-        raise ExportError("ncf-export: %s: box x/y differs from %s's" % (o.path, d.path))
-    off = len(d.ids)
-    d.ids = np.concatenate([d.ids, o.ids + (d.ids.max() if off else 0)])
-    d.mol = np.concatenate([d.mol, o.mol + (d.mol.max() if off else 0)])
-    d.type = np.concatenate([d.type, o.type])
-    d.pos = np.concatenate([d.pos, o.pos])
-    d.bonds = np.concatenate([d.bonds, o.bonds + off])
-    if d.layer is not None and o.layer is not None:
-        d.layer = np.concatenate([d.layer, o.layer])
-    else:
-        d.layer = None
-    d.lo[2], d.hi[2] = min(d.lo[2], o.lo[2]), max(d.hi[2], o.hi[2])
+    try:
+        d.append(o)
+    except ncf_measure.MeasureError as e:
+        raise ExportError("ncf-export: %s" % e)
 
 
 # ----------------------------------------------------------------------------- geometry

@@ -249,11 +249,14 @@ class Data:
         off = len(self.ids)
         idoff = int(self.ids.max()) if len(self.ids) else 0
         self.ids = np.concatenate([self.ids, other.ids + idoff])
-        self.mol = np.concatenate([self.mol, other.mol])
+        moloff = int(self.mol.max()) if len(self.mol) else 0
+        self.mol = np.concatenate([self.mol, other.mol + moloff])
         self.type = np.concatenate([self.type, other.type])
         self.pos = np.concatenate([self.pos, other.pos])
-        self.layer = np.concatenate([self.layer, other.layer])
-        self.end = np.concatenate([self.end, other.end])
+        # (a file read without its NCF_NODE section has no layers: neither has the whole then)
+        both = self.layer is not None and other.layer is not None
+        self.layer = np.concatenate([self.layer, other.layer]) if both else None
+        self.end = np.concatenate([self.end, other.end]) if both else None
         self.bonds = np.concatenate([self.bonds, other.bonds + off])
         self.bond_type = np.concatenate([self.bond_type, other.bond_type])
         self.lo[2] = min(self.lo[2], other.lo[2])
@@ -268,9 +271,10 @@ def _is_number(tok):
         return False
 
 
-def read_data(path):
+def read_data(path, need_nodes=True):
     """A LAMMPS data file of atom_style bond or angle with the NCF_NODE section (write_data or
-    ncf-gen)."""
+    ncf-gen). need_nodes=False: a file without NCF_NODE is read too (layer and end None); the
+    reader of ncf-export."""
     lines = _read_lines(path)
     d = Data(path)
     nat = None
@@ -390,6 +394,8 @@ def read_data(path):
         d.bonds = np.zeros((0, 2), dtype=np.int64)
         d.bond_type = np.zeros(0, dtype=np.int64)
     # NCF_NODE
+    if not need_nodes and "NCF_NODE" not in sections:
+        return d
     tl, rows, _ = need("NCF_NODE")
     if len(rows) != nat:
         raise MeasureError("%s:%d: section NCF_NODE has %d lines, the file has %d atoms"
