@@ -17,8 +17,8 @@ using namespace LAMMPS_NS;
 
 namespace {
 
-// pair and bond styles are built from the LAMMPS instance alone, fixes and computes also get
-// their arguments
+// pair and bond styles and commands are built from the LAMMPS instance alone, fixes and
+// computes also get their arguments
 template <class T> void *create_plain(void *lmp)
 {
   return new T(static_cast<LAMMPS *>(lmp));
@@ -46,6 +46,7 @@ const char INFO[] = "USER-NCF " NCF_VERSION " (git " NCF_GIT_REVISION
 #define NCF_CREATOR_pair(Class) &create_plain<Class>
 #define NCF_CREATOR_fix(Class) &create_with_args<Class>
 #define NCF_CREATOR_compute(Class) &create_with_args<Class>
+#define NCF_CREATOR_command(Class) &create_plain<Class>
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {

@@ -232,7 +232,12 @@ struct Outputs {    // file suffix -> contents
 std::string layers_data(const Fabric &f);
 std::string yarn_data(const Fabric &f);
 std::string needles_text(const Fabric &f);
-std::string settings_text(const Fabric &f, const std::string &prefix);
+// the settings include file; `fabric` is its ncf_fabric (fabric_id(f) when empty)
+std::string settings_text(const Fabric &f, const std::string &prefix,
+                          const std::string &fabric = "");
+// the fabric's identity written to its settings: a hash of its layers and yarn data files
+std::string fabric_id(const Fabric &f);
+
 std::string yarn_settings_text(const Fabric &f);
 std::string summary_text(const Fabric &f);
 

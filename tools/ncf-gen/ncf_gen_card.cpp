@@ -5,7 +5,9 @@
 
 #include "ncf_gen.h"
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -20,6 +22,13 @@ namespace {
   [[noreturn]] void fail(const std::string &where, const std::string &what)
   {
     throw InputError(where + ": " + what);
+  }
+
+  std::string num(double v)
+  {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%g", v);
+    return buf;
   }
 
   std::string at(const std::string &path, int line)
@@ -137,6 +146,13 @@ Lapping parse_lapping(const std::string &text, const std::string &where)
     const std::string sa = course.substr(0, dash), sb = course.substr(dash + 1);
     for (char c : sa + sb)
       if (c < '0' || c > '9') fail(where, bad);
+    // (a lapping number counts needle spaces: more than a few digits is a typing mistake, and
+    // would overflow; the card's check compares the span with the gauge)
+    for (const std::string &sn : {sa, sb})
+      if (sn.size() > 4)
+        fail(where,
+             "key 'pattern': lapping number '" + sn + "' in '" + text +
+                 "' is beyond any gauge (at most 9999 needle spaces)");
     const int a = std::atoi(sa.c_str()), b = std::atoi(sb.c_str());
     if (std::abs(a - b) != 1)
       fail(where,
@@ -213,7 +229,9 @@ Card parse_card(const std::string &text, const std::string &path)
 {
   Card card;
   card.path = path;
-  std::istringstream in(text);
+  // a UTF-8 byte-order mark (some editors write one) is not part of the first key
+  const std::string bom = "\xEF\xBB\xBF";
+  std::istringstream in(text.compare(0, bom.size(), bom) == 0 ? text.substr(bom.size()) : text);
   std::string raw;
   int lineno = 0;
   std::map<std::string, int> seen;    // global keys given, with their line
@@ -277,6 +295,11 @@ Card parse_card(const std::string &text, const std::string &path)
       fail(where, "key '" + key + "': unexpected '" + w[3] + "' after the value");
     } else if (w.size() == 3) {
       scale = unit_factor(dim, w[2], where, key);
+    } else if (dim == LENGTH) {
+      // a length without its unit is a factor 1 000 or 10^6 away from what was meant as often as
+      // not (0.6 for 0.6 mm): refused rather than read in metres
+      fail(where,
+           "key '" + key + "': value '" + val + "' needs a unit (one of: m, micron, mm, um)");
     }
     auto positive = [&](const std::string &k) {
       const double v = number(val, where, k) * scale;
@@ -295,6 +318,10 @@ Card parse_card(const std::string &text, const std::string &path)
       LayerSpec L;
       L.line = lineno;
       L.angle = number(val, where, key) * scale;
+      if (!(std::fabs(L.angle) <= 360.0))
+        fail(where,
+             "key 'layer': angle '" + val + (w.size() == 3 ? " " + w[2] : std::string()) +
+                 "' is beyond +-360 deg");
       card.layers.push_back(L);
     } else if (is_layer_key) {
       if (card.layers.empty())
@@ -443,6 +470,30 @@ Card parse_card(const std::string &text, const std::string &path)
   if (card.stitch_length < 0.0) fail(at(path, lineno), "the card has no 'stitch_length'");
   if (card.yarn.empty()) fail(at(path, lineno), "the card has no 'yarn' (stitching yarn material)");
   (void) have_seed;
+
+  // plausibility of the sizes that a wrong unit or a typing mistake puts far off: the needle
+  // must fit between its neighbours (the needle pitch 25.4 mm / gauge), and the lapping must
+  // not span more needles than one inch of the machine holds (the gauge)
+  const double pitch = 25.4e-3 / card.gauge;
+  if (card.needle_diameter >= pitch) {
+    const int line = seen.count("needle_diameter") ? seen["needle_diameter"] : lineno;
+    fail(at(path, line),
+         "key 'needle_diameter': " + num(card.needle_diameter * 1e3) +
+             " mm is not narrower than the needle pitch " + num(pitch * 1e3) +
+             " mm (25.4 mm / gauge " + num(card.gauge) + ")");
+  }
+  {
+    int lo = 1 << 30, hi = -1;
+    for (auto &ab : card.pattern.laps) {
+      lo = std::min({lo, ab.first, ab.second});
+      hi = std::max({hi, ab.first, ab.second});
+    }
+    if (hi >= 0 && hi - lo >= card.gauge)
+      fail(at(path, card.pattern_line),
+           "key 'pattern': the lapping numbers of '" + card.pattern.text + "' span " +
+               std::to_string(hi - lo) + " needles, beyond the gauge (" +
+               num(card.gauge) + " needles per inch)");
+  }
 
   // the materials file: relative to the card's folder, else to $NCF_ROOT, else the default
   std::string m = materials_given.empty() ? "potentials/ncf.materials" : materials_given;

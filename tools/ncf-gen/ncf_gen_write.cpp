@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -150,7 +151,18 @@ std::string needles_text(const Fabric &f)
   return s;
 }
 
-std::string settings_text(const Fabric &f, const std::string &prefix)
+std::string fabric_id(const Fabric &f)
+{
+  // FNV-1a (64 bit) of the two data files: two fabrics that differ in any node or bond differ
+  std::uint64_t h = 1469598103934665603ULL;
+  for (const std::string &t : {layers_data(f), yarn_data(f)})
+    for (unsigned char c : t) h = (h ^ c) * 1099511628211ULL;
+  char buf[24];
+  std::snprintf(buf, sizeof(buf), "%016llx", (unsigned long long) h);
+  return buf;
+}
+
+std::string settings_text(const Fabric &f, const std::string &prefix, const std::string &fabric)
 {
   std::string s;
   const int nl = (int) f.layers.size(), yt = f.yarn_type();
@@ -203,6 +215,11 @@ std::string settings_text(const Fabric &f, const std::string &prefix)
       "  # length of the needle's conical point, stages 2-3 [m]\n";
   s += "variable ncf_pretension equal " + g(f.card.pretension) +
       "  # shrink of the yarn's rest length, stage 4 [-]\n";
+  s += "variable ncf_needle_pitch equal " + g(f.needle_spacing) +
+      "  # needle spacing along the gauge direction, 25.4 mm / gauge [m]\n";
+  // the fabric's identity: the stage scripts check that a restart file is of this fabric
+  s += "variable ncf_fabric string " + (fabric.empty() ? fabric_id(f) : fabric) +
+      "  # hash of the generated layers and yarn data [-]\n";
   // the run parameters of the quality preset: index variables, the defaults of the stage
   // scripts' dtfrac, pdyn and tau (-var on the command line wins over both)
   const Card &c = f.card;
@@ -418,7 +435,7 @@ Outputs make_outputs(const Fabric &f, const std::string &prefix)
   o.files.emplace_back(base + ".layers.data", layers_data(f));
   o.files.emplace_back(base + ".yarn.data", yarn_data(f));
   o.files.emplace_back(base + ".needles", needles_text(f));
-  o.files.emplace_back(base + ".settings.lmp", settings_text(f, shown));
+  o.files.emplace_back(base + ".settings.lmp", settings_text(f, shown, fabric_id(f)));
   o.files.emplace_back(base + ".yarn.lmp", yarn_settings_text(f));
   o.files.emplace_back(base + ".summary", summary_text(f));
   return o;
