@@ -110,7 +110,9 @@ void NCFCheck::check_var(const std::vector<std::string> &w)
     std::vector<std::string> allowed(w.begin() + 3, w.begin() + about);
     for (const auto &a : allowed)
       if (value == a) return;
-    fail("must be one of " + join(allowed, 0));
+    std::string list;
+    for (const auto &a : allowed) list += (list.empty() ? "" : ", ") + a;
+    fail("must be one of " + list);
     return;
   }
   if (type != "number" && type != "integer")

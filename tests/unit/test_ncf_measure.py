@@ -637,7 +637,7 @@ class Overlaps(unittest.TestCase):
             err = io.StringIO()
             with redirect_stderr(err):
                 self.assertEqual(O.main([path, "--diameter", "0"]), 2)
-            self.assertIn("--diameter 0.0: must be > 0", err.getvalue())
+            self.assertIn("--diameter 0 m: must be between 1 um and 5 mm", err.getvalue())
             with self.assertRaisesRegex(M.MeasureError, r"layer\(s\) \[2\] have no chain diameter"):
                 O.overlaps(M.read_data(path), {1: D})
 

@@ -53,6 +53,8 @@ class Fabric:
         self.layers = []            # LayerInfo, bottom first
         self.loops = "bottom"       # face of the stitching loops
         self.yarn_d = None          # yarn chain diameter [m] (summary only)
+        self.size = None            # RVE Lx, Ly [m] (summary only)
+        self.points = None          # number of stitching points (summary only)
 
     def layer(self, index):
         for L in self.layers:
@@ -71,6 +73,42 @@ def _read_lines(path):
             return f.read().splitlines()
     except OSError as e:
         raise MeasureError("cannot read %s: %s" % (path, e.strerror or e))
+
+
+def describe_error(e):
+    """The words of an error that is not a MeasureError (a file that cannot be written, a value
+    numpy refuses), for a message without a traceback."""
+    if isinstance(e, OSError):
+        name = e.filename if e.filename is not None else ""
+        return "%s%s" % ("%s: " % name if name else "", e.strerror or e)
+    return "%s: %s" % (type(e).__name__, e)
+
+
+def join_negative_values(argv, options):
+    """'--opt -1e-3' as '--opt=-1e-3': argparse takes a value that starts with '-' and is not a
+    plain negative number (an exponent, a unit) for an option."""
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in options and i + 1 < len(argv) and re.match(r"^-[0-9.]", argv[i + 1]):
+            out.append("%s=%s" % (argv[i], argv[i + 1]))
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
+def _length_text(text):
+    """A length: a finite number with an optional unit m, mm, um, micron (metres without one)."""
+    m = re.match(r"^\s*([-+0-9.eE]+)\s*(m|mm|um|micron)?\s*$", text)
+    try:
+        v = float(m.group(1)) if m else float("nan")
+    except ValueError:
+        v = float("nan")
+    if not math.isfinite(v):
+        raise ValueError("'%s' is not a finite length (a number with an optional unit m, mm, um)"
+                         % text)
+    return v * _LENGTH[m.group(2) or "m"]
 
 
 def _num(text, where, what):
@@ -111,6 +149,12 @@ def read_summary(path):
         if s.startswith("stitching yarn"):
             cur, in_yarn = None, True
             continue
+        m = re.match(r"size Lx \(machine\) x Ly \(gauge\)\s+(\S+) x (\S+) mm", s)
+        if m:
+            fab.size = (_num(m.group(1), where, "RVE Lx") * 1e-3, _num(m.group(2), where, "RVE Ly") * 1e-3)
+        m = re.match(r"courses, needles \(stitching points\)\s+(\d+), (\d+)", s)
+        if m:
+            fab.points = int(m.group(2))
         if s == "checks":
             cur, in_yarn = None, False
             continue
@@ -417,6 +461,28 @@ def read_data(path, need_nodes=True):
     d.node_line = np.zeros(nat, dtype=np.int64)
     d.node_line[idx] = [ln for ln, _ in rows]
     return d
+
+
+def check_fabric(data, fab, path, needles, needles_path):
+    """The summary, the needles and the data file are of one fabric: the summary's RVE size is the
+    data file's box in x and y (to 1e-6 of it: the stages keep the box), the needle file holds
+    the summary's number of stitching points, none twice."""
+    if fab.size is not None:
+        lx, ly = data.hi[0] - data.lo[0], data.hi[1] - data.lo[1]
+        if abs(lx - fab.size[0]) > 1e-6 * fab.size[0] + 1e-7 or \
+                abs(ly - fab.size[1]) > 1e-6 * fab.size[1] + 1e-7:
+            raise MeasureError("%s: box %g x %g mm, but %s describes an RVE of %g x %g mm: the "
+                               "summary of another fabric?" % (path, lx * 1e3, ly * 1e3, fab.source,
+                                                                fab.size[0] * 1e3, fab.size[1] * 1e3))
+    if fab.points is not None and len(needles) != fab.points:
+        raise MeasureError("%s: %d stitching points, but %s describes %d: the needles of another "
+                           "fabric?" % (needles_path, len(needles), fab.source, fab.points))
+    if len(needles) > 1:
+        key = np.round(np.asarray(needles) / 1e-9).astype(np.int64)
+        _, first, count = np.unique(key, axis=0, return_index=True, return_counts=True)
+        if np.any(count > 1):
+            q = needles[first[np.nonzero(count > 1)[0][0]]]
+            raise MeasureError("%s: stitching point (%g, %g) is listed twice" % (needles_path, q[0], q[1]))
 
 
 def check_layers(data, fab):
@@ -1213,14 +1279,27 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _length(text):
-    m = re.match(r"^\s*([-+0-9.eE]+)\s*(m|mm|um|micron)?\s*$", text)
-    if not m:
-        raise argparse.ArgumentTypeError("'%s' is not a length (number with optional m, mm, um)" % text)
     try:
-        v = float(m.group(1))
+        return _length_text(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e))
+
+
+def _finite(text):
+    try:
+        v = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError("'%s' is not a length" % text)
-    return v * _LENGTH[m.group(2) or "m"]
+        raise argparse.ArgumentTypeError("'%s' is not a number" % text)
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError("'%s' is not a finite number" % text)
+    return v
+
+
+def _int(text):
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
 
 
 def parse_args(argv):
@@ -1243,21 +1322,23 @@ def parse_args(argv):
     p.add_argument("--channel-search", type=_length, default=0.3e-3,
                    help="channel runs counted when they reach within this distance of the middle "
                    "on the line across (default 0.3 mm)")
-    p.add_argument("--min-gap", type=float, default=None,
+    p.add_argument("--min-gap", type=_finite, default=None,
                    help="smallest gap area counted [mm^2] (default (d_c/2)^2)")
     p.add_argument("--loop-z", type=_length, default=None,
                    help="z beyond which yarn nodes are on the loop face (default the middle of the "
                    "outer layer on that face)")
     p.add_argument("--min-loop", type=_length, default=0.2e-3,
                    help="shortest loop chord counted (default 0.2 mm)")
-    p.add_argument("--range", type=float, default=15.0, help="histogram half-width [deg] (default 15)")
-    p.add_argument("--bins", type=int, default=60, help="histogram bins (default 60)")
-    p.add_argument("--map-range", type=float, default=10.0,
+    p.add_argument("--range", type=_finite, default=15.0, help="histogram half-width [deg] (default 15)")
+    p.add_argument("--bins", type=_int, default=60, help="histogram bins (default 60)")
+    p.add_argument("--map-range", type=_finite, default=10.0,
                    help="colour range of the deviation maps [deg] (default 10)")
     p.add_argument("--no-defects", action="store_true", help="orientation only")
     p.add_argument("--no-pictures", action="store_true", help="tables only")
     p.add_argument("-q", "--quiet", action="store_true", help="do not print the table")
-    a = p.parse_args(argv)
+    a = p.parse_args(join_negative_values(argv, ("--resolution", "--capture", "--channel-search",
+                                                 "--min-gap", "--loop-z", "--min-loop", "--range",
+                                                 "--bins", "--map-range")))
     if not (0 < a.resolution <= 10e-6 + 1e-15):
         p.error("--resolution %g m: must be > 0 and at most 10 um" % a.resolution)
     if a.capture <= 0 or a.channel_search <= 0 or a.min_loop < 0:
@@ -1269,6 +1350,12 @@ def parse_args(argv):
                 % (len(a.needles), len(a.data)))
     if a.yarn and len(a.data) != 1:
         p.error("--yarn needs exactly one DATA file")
+    if a.min_gap is not None and not a.min_gap > 0:
+        p.error("--min-gap %g mm^2: must be > 0" % a.min_gap)
+    if a.bins > 100000:
+        p.error("--bins %d: at most 100000" % a.bins)
+    if os.path.exists(a.out) and not os.path.isdir(a.out):
+        p.error("--out %s: exists and is not a folder (the output folder)" % a.out)
     return a
 
 
@@ -1286,11 +1373,8 @@ def run(args):
                                    % (w, fab.source, ", ".join(str(L.index) for L in fab.layers)))
         layers = [fab.layer(w) for w in want]
     needles = [read_needles(n) for n in args.needles]
-    os.makedirs(args.out, exist_ok=True)
-    orient_parts = {L.index: [] for L in layers}
-    defects = {}
-    all_loops = []
-    any_yarn = False
+    # every input read and checked before anything is written
+    datas = []
     for k, path in enumerate(args.data):
         data = read_data(path)
         if args.yarn:
@@ -1298,6 +1382,7 @@ def run(args):
         check_layers(data, fab)
         nd = needles[k if len(needles) > 1 else 0]
         src = args.needles[k if len(needles) > 1 else 0]
+        check_fabric(data, fab, path, nd, src)
         out_of_box = (nd[:, 0] < data.lo[0] - 1e-12) | (nd[:, 0] > data.hi[0] + 1e-12) | \
             (nd[:, 1] < data.lo[1] - 1e-12) | (nd[:, 1] > data.hi[1] + 1e-12)
         if np.any(out_of_box):
@@ -1305,6 +1390,18 @@ def run(args):
             raise MeasureError("%s: stitching point (%g, %g) lies outside the box of %s "
                                "(x %g..%g, y %g..%g): needles of another RVE?"
                                % (src, q[0], q[1], path, data.lo[0], data.hi[0], data.lo[1], data.hi[1]))
+        datas.append(data)
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as e:
+        raise MeasureError("--out %s: cannot create the output folder: %s" % (args.out, e.strerror or e))
+    orient_parts = {L.index: [] for L in layers}
+    defects = {}
+    all_loops = []
+    any_yarn = False
+    for k, path in enumerate(args.data):
+        data = datas[k]
+        nd = needles[k if len(needles) > 1 else 0]
         for L in layers:
             dev, w = layer_orientation(data, L.index, L.angle)
             if len(dev) == 0:
@@ -1357,6 +1454,10 @@ def main(argv=None):
         run(args)
     except MeasureError as e:
         sys.stderr.write("ncf-measure: ERROR: %s\n" % e)
+        return 1
+    except (OSError, ValueError, IndexError, KeyError) as e:
+        # (a file that cannot be written, a value numpy refuses: said, without a traceback)
+        sys.stderr.write("ncf-measure: ERROR: %s\n" % describe_error(e))
         return 1
     return 0
 

@@ -144,27 +144,58 @@ def report(data, d_layer, top=10, out=sys.stdout):
     return r
 
 
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        sys.stderr.write("ncf-overlaps: error: %s\n" % message)
+        sys.exit(2)
+
+
+def _diameter(text):
+    """A chain diameter: a number, optionally with a unit m, mm, um (metres without one); a
+    leading minus is read here too, so that argparse does not take '-69e-6' for an option."""
+    try:
+        return M._length_text(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e))
+
+
+def _top(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
+    return v
+
+
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="ncf-overlaps", description=__doc__.split("\n\n")[0])
+    argv = M.join_negative_values(sys.argv[1:] if argv is None else list(argv), ("--diameter", "--top"))
+    p = _Parser(prog="ncf-overlaps", description=__doc__.split("\n\n")[0])
     p.add_argument("data", help="LAMMPS data file with NCF_NODE (a stage's PREFIX.STAGE.data)")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--summary", help="the generator's PREFIX.summary (chain diameter)")
-    src.add_argument("--diameter", type=float, help="chain diameter [m]")
-    p.add_argument("--top", type=int, default=10, help="pairs listed (default 10)")
+    src.add_argument("--diameter", type=_diameter,
+                     help="chain diameter [m] (or with a unit: 69 um), 1 um to 5 mm")
+    p.add_argument("--top", type=_top, default=10, help="pairs listed (default 10)")
     args = p.parse_args(argv)
     try:
         if args.top < 0:
             raise M.MeasureError("--top %d: must be >= 0" % args.top)
+        if args.diameter is not None and not (1e-6 <= args.diameter <= 5e-3):
+            # (a chain of a fabric is tens to hundreds of micrometres: 69 is metres, not um)
+            raise M.MeasureError("--diameter %g m: must be between 1 um and 5 mm (a value in "
+                                 "micrometres needs its unit: 69 um)" % args.diameter)
         data = M.read_data(args.data)
         if args.summary:
             d_layer = {L.index: L.d_c for L in M.read_summary(args.summary).layers}
         else:
-            if not (args.diameter > 0):
-                raise M.MeasureError("--diameter %r: must be > 0" % args.diameter)
             d_layer = {int(v): args.diameter for v in np.unique(data.layer) if v >= 1}
         report(data, d_layer, args.top)
     except M.MeasureError as e:
         print("ncf-overlaps: error: %s" % e, file=sys.stderr)
+        return 2
+    except (OSError, ValueError, IndexError, KeyError) as e:
+        print("ncf-overlaps: error: %s" % M.describe_error(e), file=sys.stderr)
         return 2
     return 0
 
