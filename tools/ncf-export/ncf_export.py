@@ -425,8 +425,22 @@ def _vtk():
     return vtk, numpy_support
 
 
+def _int(text):
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        sys.stderr.write("ncf-export: error: %s\n" % message)
+        sys.exit(2)
+
+
 def parse_args(argv):
-    p = argparse.ArgumentParser(prog="ncf-export", description=__doc__.split("\n")[0])
+    p = _Parser(prog="ncf-export", description=__doc__.split("\n")[0])
     p.add_argument("data", help="LAMMPS data file (atom_style bond or angle)")
     p.add_argument("--summary", required=True, help="the generator's PREFIX.summary (diameters, packings)")
     p.add_argument("--yarn", help="a second data file appended (e.g. PREFIX.yarn.data)")
@@ -434,13 +448,13 @@ def parse_args(argv):
     p.add_argument("--vti", help="write the voxel grid to this .vti (needs --voxel)")
     p.add_argument("--vtk", help="write the voxel grid as legacy STRUCTURED_POINTS to this .vtk")
     p.add_argument("--voxel", help="largest voxel edge, e.g. 40um (the cells tile the box exactly)")
-    p.add_argument("--subsample", type=int, default=4,
+    p.add_argument("--subsample", type=_int, default=4,
                    help="sub-points per voxel edge for the volume fractions (default 4: 64 per voxel)")
     p.add_argument("--z-range", metavar="ZLO,ZHI",
                    help="z extent of the grid, e.g. --z-range=-0.1mm,0.9mm (default: the chains' "
                         "extent, lowest to highest chain surface)")
     p.add_argument("-q", "--quiet", action="store_true")
-    return p.parse_args(argv)
+    return p.parse_args(ncf_measure.join_negative_values(argv, ("--voxel", "--subsample", "--z-range")))
 
 
 def main(argv=None):
@@ -452,21 +466,31 @@ def main(argv=None):
             raise ExportError("ncf-export: option --vti/--vtk: needs --voxel SIZE (e.g. --voxel 40um)")
         if a.subsample < 1 or a.subsample > 16:
             raise ExportError("ncf-export: option --subsample: value %d must be in 1..16" % a.subsample)
+        # every input read and checked before the first file is written
+        outs = [(o, v) for o, v in (("--vtu", a.vtu), ("--vti", a.vti), ("--vtk", a.vtk)) if v]
+        for opt, path in outs:
+            folder = os.path.dirname(os.path.abspath(path))
+            if os.path.isdir(path):
+                raise ExportError("ncf-export: option %s: '%s' is a folder, not a file name" % (opt, path))
+            if not os.path.isdir(folder):
+                raise ExportError("ncf-export: option %s: the folder of '%s' does not exist" % (opt, path))
+            if not os.access(folder, os.W_OK):
+                raise ExportError("ncf-export: option %s: cannot write in the folder of '%s'" % (opt, path))
+        if len(set(os.path.abspath(p) for _, p in outs)) != len(outs):
+            raise ExportError("ncf-export: the same file is given to two of --vtu, --vti, --vtk")
         kinds, nlayers = read_summary(a.summary)
         d = read_data(a.data)
         if a.yarn:
             append(d, read_data(a.yarn))
         if len(d.bonds) == 0:
             raise ExportError("ncf-export: %s: no bonds: nothing to export" % a.data)
-        if a.vtu:
-            write_vtu(d, kinds, a.vtu, a.quiet)
+        h, zr = None, None
         if a.vti or a.vtk:
             h = length(a.voxel, "--voxel")
             box = min(d.hi[0] - d.lo[0], d.hi[1] - d.lo[1])
             if h > box:
                 raise ExportError("ncf-export: option --voxel: value %s is larger than the box (%.4g mm)"
                                   % (a.voxel, box * 1e3))
-            zr = None
             if a.z_range:
                 w = a.z_range.split(",")
                 if len(w) != 2:
@@ -474,9 +498,16 @@ def main(argv=None):
                 zr = tuple(length(x, "--z-range", signed=True) for x in w)
                 if zr[1] <= zr[0]:
                     raise ExportError("ncf-export: option --z-range: value '%s' is empty" % a.z_range)
+        if a.vtu:
+            write_vtu(d, kinds, a.vtu, a.quiet)
+        if a.vti or a.vtk:
             write_vti(d, kinds, nlayers, h, a.subsample, a.vti, a.vtk, zr, a.quiet)
     except ExportError as e:
         print(str(e), file=sys.stderr)
+        return 1
+    except (OSError, ValueError, IndexError, KeyError, MemoryError) as e:
+        # (a file that cannot be written, a grid too large for the memory: said, no traceback)
+        print("ncf-export: %s" % ncf_measure.describe_error(e), file=sys.stderr)
         return 1
     return 0
 

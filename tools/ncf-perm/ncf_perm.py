@@ -10,7 +10,9 @@ grid. doc/ncf_perm.md.
 """
 
 import argparse
+import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -143,25 +145,49 @@ def solver_path():
                     "tools/setup.sh; or set NCF_PERM_SOLVER)")
 
 
+def _finite(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("'%s' is not a number" % text)
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError("'%s' is not a finite number" % text)
+    return v
+
+
+def _int(text):
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        sys.stderr.write("ncf-perm: error: %s\n" % message)
+        sys.exit(2)
+
+
 def parse_args(argv):
-    p = argparse.ArgumentParser(prog="ncf-perm", description=__doc__.split("\n")[0])
+    p = _Parser(prog="ncf-perm", description=__doc__.split("\n")[0])
     p.add_argument("grid", help="VTK ImageData (.vti, or legacy .vtk) with a cell array vf (0..1), "
                                "optional dir (3 components)")
     p.add_argument("--medium", choices=["fibrous", "solid"], default="fibrous",
                    help="fibrous: vf is the fibre volume fraction of filament bundles (Brinkman, "
                         "Gebart); solid: vf is the solid fraction of impermeable bodies")
-    p.add_argument("--fibre-radius", type=float, default=None,
+    p.add_argument("--fibre-radius", type=_finite, default=None,
                    help="filament radius [m] for Gebart (default: the grid's field ncf_fibre_radius)")
     p.add_argument("--packing", choices=["hexagonal", "square"], default="hexagonal",
                    help="filament arrangement for Gebart's formulas (default hexagonal)")
-    p.add_argument("--solid-vf", type=float, default=None,
+    p.add_argument("--solid-vf", type=_finite, default=None,
                    help="fibrous: vf at and above which a cell is solid (default Gebart's maximum "
                         "packing, 0.9069 hexagonal, 0.7854 square)")
-    p.add_argument("--tol", type=float, default=1e-6, help="relative residual (default 1e-6)")
-    p.add_argument("--max-iter", type=int, default=20000)
-    p.add_argument("--penalty", type=float, default=1e4,
+    p.add_argument("--tol", type=_finite, default=1e-6, help="relative residual (default 1e-6)")
+    p.add_argument("--max-iter", type=_int, default=20000)
+    p.add_argument("--penalty", type=_finite, default=1e4,
                    help="resistance of solid faces in units of 1/h^2 (default 1e4)")
-    p.add_argument("--threads", type=int, default=None,
+    p.add_argument("--threads", type=_int, default=None,
                    help="threads (default: OMP_NUM_THREADS, else the cores)")
     p.add_argument("--plan", choices=["estimate", "measure"], default="estimate")
     p.add_argument("--loads", default="xyz", help="which mean pressure gradients (default xyz)")
@@ -169,12 +195,48 @@ def parse_args(argv):
                    help="write the grid with the velocity fields u_x, u_y, u_z of the loads [m^2 "
                         "per unit gradient and viscosity] to this .vti")
     p.add_argument("-q", "--quiet", action="store_true")
-    return p.parse_args(argv)
+    # ('--tol -1': a value that starts with '-' is taken for an option by argparse)
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i].startswith("--") and "=" not in argv[i] and i + 1 < len(argv) and \
+                re.match(r"^-[0-9.]", argv[i + 1]):
+            out.append("%s=%s" % (argv[i], argv[i + 1]))
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return p.parse_args(out)
+
+
+def check_args(a):
+    """The options' ranges, before the grid is read or anything written."""
+    if a.fibre_radius is not None and not (1e-8 <= a.fibre_radius <= 1e-3):
+        raise PermError("ncf-perm: option --fibre-radius: value %g m must be between 0.01 um and "
+                        "1 mm (a filament radius in metres: 3.5e-6)" % a.fibre_radius)
+    if a.solid_vf is not None and not (0.0 < a.solid_vf <= 1.0):
+        raise PermError("ncf-perm: option --solid-vf: value %g must be in (0, 1]" % a.solid_vf)
+    if not (0.0 < a.tol < 1.0):
+        raise PermError("ncf-perm: option --tol: value %g must be in (0, 1)" % a.tol)
+    if a.max_iter < 1:
+        raise PermError("ncf-perm: option --max-iter: value %d must be >= 1" % a.max_iter)
+    if not (a.penalty > 0.0):
+        raise PermError("ncf-perm: option --penalty: value %g must be > 0" % a.penalty)
+    if a.threads is not None and not (1 <= a.threads <= 4096):
+        raise PermError("ncf-perm: option --threads: value %d must be in 1..4096" % a.threads)
+    if not a.loads or any(c not in "xyz" for c in a.loads) or len(set(a.loads)) != len(a.loads):
+        raise PermError("ncf-perm: option --loads: value '%s' must be letters of xyz, each once"
+                        % a.loads)
+    if a.flux_out:
+        folder = os.path.dirname(os.path.abspath(a.flux_out))
+        if os.path.isdir(a.flux_out) or not os.path.isdir(folder):
+            raise PermError("ncf-perm: option --flux-out: cannot write '%s' (a folder, or in a "
+                            "folder that does not exist)" % a.flux_out)
 
 
 def main(argv=None):
     a = parse_args(sys.argv[1:] if argv is None else argv)
     try:
+        check_args(a)
         img = read_grid(a.grid)
         n, h, vf, dr, where = grid_arrays(img, a.grid)
         rf = a.fibre_radius if a.fibre_radius is not None else field_value(img, "ncf_fibre_radius")
@@ -226,6 +288,12 @@ def main(argv=None):
             return rc
     except PermError as e:
         print(str(e), file=sys.stderr)
+        return 1
+    except (OSError, ValueError, IndexError, KeyError, MemoryError) as e:
+        # (a file that cannot be read or written, a grid too large: said, without a traceback)
+        name = getattr(e, "filename", None)
+        print("ncf-perm: %s%s" % ("%s: " % name if name else "", getattr(e, "strerror", None) or e),
+              file=sys.stderr)
         return 1
 
 
