@@ -35,8 +35,10 @@ ComputeNCFOrient::ComputeNCFOrient(LAMMPS *lmp, int narg, char **arg) :
 {
   const std::string W = "compute ncf/orient";
   int iarg = 3;
+  NCF_LMP::KeywordsOnce once(lmp, "compute ncf/orient", {"layer"});
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key);
     if (key == "layer") {
       if (iarg + 2 >= narg)
         error->all(FLERR, "compute ncf/orient: keyword 'layer' needs a layer index and its angle");

@@ -63,8 +63,10 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
     return NCF_LMP::number(lmp, "fix ncf/needles", key, arg[i]);
   };
   int iarg = 3;
+  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/needles", {"at", "chain"});
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key, key == "move" || key == "target" || utils::strmatch(key, "^v_") ? "motion" : "");
     if (key == "diameter") {
       const double d = number(iarg + 1, "diameter");
       if (!(d > 0.0)) error->all(FLERR, "fix ncf/needles: diameter {} must be > 0", arg[iarg + 1]);
@@ -144,6 +146,33 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
   NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
+  // needles that repeat or overlap (a needle file given twice, a diameter in the wrong unit): two
+  // shafts cannot share the holes of one stitching point; in a periodic direction a needle must
+  // also clear its own image
+  for (int d = 0; d < 2; d++) {
+    const double prd = domain->boxhi[d] - domain->boxlo[d];
+    if (domain->periodicity[d] && 2.0 * radius >= prd)
+      error->all(FLERR,
+                 "fix ncf/needles: diameter {} is not smaller than the periodic box length {} in {}: "
+                 "a needle would overlap its own image",
+                 2.0 * radius, prd, d ? "y" : "x");
+  }
+  for (std::size_t a = 0; a < nx.size(); a++)
+    for (std::size_t b = a + 1; b < nx.size(); b++) {
+      double dxy[2] = {nx[b] - nx[a], ny[b] - ny[a]};
+      for (int d = 0; d < 2; d++)
+        if (domain->periodicity[d]) {
+          const double prd = domain->boxhi[d] - domain->boxlo[d];
+          dxy[d] -= prd * std::round(dxy[d] / prd);
+        }
+      const double dist = std::hypot(dxy[0], dxy[1]);
+      if (dist < 2.0 * radius)
+        error->all(FLERR,
+                   "fix ncf/needles: needles {} and {} at ({}, {}) and ({}, {}) {}: their centres "
+                   "are {} apart, less than the diameter {}",
+                   a + 1, b + 1, nx[a], ny[a], nx[b], ny[b],
+                   dist == 0.0 ? "are the same needle" : "overlap", dist, 2.0 * radius);
+    }
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);

@@ -182,8 +182,10 @@ void FixNCFPBC::parse(int narg, char **arg)
 {
   int iarg = 3;
   std::string shape_keyword;    // the last keyword given that shapes the groups (faces, ...)
+  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/pbc");
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key);
     auto need = [&](int n) {
       if (iarg + n >= narg)
         error->all(FLERR, "fix ncf/pbc: keyword '{}' needs {} value(s)", key, n);

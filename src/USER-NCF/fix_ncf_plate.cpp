@@ -92,8 +92,10 @@ void FixNCFPlate::parse(int narg, char **arg)
       error->all(FLERR, "fix ncf/plate: {} must be {} 0, got {}", key, strict ? ">" : ">=", text);
     return v;
   };
+  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/plate", {"diameter", "lower", "upper"});
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key);
     if (key == "lower" || key == "upper") {
       Plate &p = plate[key == "lower" ? 0 : 1];
       if (p.motion.kind != NCF::Motion::NONE)

@@ -47,8 +47,10 @@ FixNCFShrink::FixNCFShrink(LAMMPS *lmp, int narg, char **arg) :
   auto number = [&](int k, const std::string &key) {
     return NCF_LMP::number(lmp, "fix ncf/shrink", key, arg[iarg + k]);
   };
+  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/shrink");
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key, key == "strain" || key == "thermal" ? "load" : "");
     if (key == "btype") {
       need(1, key);
       const long long b =

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace NCF_LMP {
@@ -106,6 +107,37 @@ inline void types(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::st
     lmp->error->all(FLERR, "{}: {} '{}': Numeric index {} is out of bounds (1-{})", what, key, text,
                     lo < 1 ? lo : hi, n);
 }
+
+// Each keyword of a style once: a keyword given twice would silently replace the first value, so
+// it is an error naming the style and the keyword; `repeatable` lists the keywords that take one
+// entry per use (a type range, a needle, a layer). Call it with every keyword as it is read.
+class KeywordsOnce {
+ public:
+  KeywordsOnce(LAMMPS_NS::LAMMPS *lmp, const std::string &what,
+               std::vector<std::string> repeatable = {}) :
+      lmp(lmp), what(what), repeatable(std::move(repeatable))
+  {
+  }
+  // `group`: the name under which the keyword counts (alternatives of one setting share it)
+  void operator()(const std::string &key, const std::string &group = "")
+  {
+    for (const auto &r : repeatable)
+      if (r == key) return;
+    const std::string g = group.empty() ? key : group;
+    for (const auto &s : seen)
+      if (s.second == g)
+        lmp->error->all(FLERR, "{}: keyword '{}' given twice{}", what, key,
+                        s.first == key ? std::string()
+                                       : " (as '" + s.first + "' and '" + key + "': one of them)");
+    seen.emplace_back(key, g);
+  }
+
+ private:
+  LAMMPS_NS::LAMMPS *lmp;
+  std::string what;
+  std::vector<std::string> repeatable;
+  std::vector<std::pair<std::string, std::string>> seen;
+};
 
 // Needle positions in the plane, as the generator's PREFIX.needles lists them: one "x y" per line
 // (lines up to 1023 characters), '#' comments. Every rank reads the small file.

@@ -195,8 +195,10 @@ void PairNCFContact::allocate()
 void PairNCFContact::settings(int narg, char **arg)
 {
   int iarg = 0;
+  NCF_LMP::KeywordsOnce once(lmp, "pair_style ncf/contact");
   while (iarg < narg) {
     const std::string key = arg[iarg];
+    once(key);
     if (iarg + 2 > narg) error->all(FLERR, "pair_style ncf/contact: keyword {} needs a value", key);
     const char *val = arg[iarg + 1];
     const std::string W = "pair_style ncf/contact";
