@@ -5,11 +5,14 @@
 
 #include "command_ncf_check.h"
 
+#include "domain.h"
 #include "error.h"
 #include "group.h"
 #include "input.h"
 #include "utils.h"
 #include "variable.h"
+
+#include "ncf_args_lammps.h"
 
 #include <cctype>
 #include <cerrno>
@@ -55,6 +58,7 @@ bool valid_name(const std::string &s)
    ncf/check SCRIPT file PATH about TEXT ...
    ncf/check SCRIPT settings FILE VAR1 VAR2 ...
    ncf/check SCRIPT restart FILE STAGE SETTINGS
+   ncf/check SCRIPT needles FILE DIAMETER
    ncf/check SCRIPT mark STAGE FABRIC
    OP is one of > >= < <=
 ------------------------------------------------------------------------- */
@@ -79,12 +83,14 @@ void NCFCheck::command(int narg, char **arg)
     check_settings(w);
   else if (kind == "restart")
     check_restart(w);
+  else if (kind == "needles")
+    check_needles(w);
   else if (kind == "mark")
     mark(w);
   else
     error->all(FLERR,
                "ncf/check: {}: unknown check '{}' (expected var, required, file, settings, "
-               "restart or mark)",
+               "restart, needles or mark)",
                script, kind);
 }
 
@@ -269,6 +275,57 @@ void NCFCheck::check_restart(const std::vector<std::string> &w)
                "{}: restart file {} is of fabric {}, the settings file {} of fabric {} (ncf_fabric): "
                "give the prefix of the fabric the restart file was made from",
                script, file, rfabric.empty() ? "(none)" : rfabric, settings, fabric);
+}
+
+/* ----------------------------------------------------------------------
+   the needle file of a stage: every needle inside the box (a needle file of another fabric lies
+   partly outside it), none listed twice, no two shafts of diameter D overlapping (through the
+   periodic faces too), none wider than the periodic box
+------------------------------------------------------------------------- */
+
+void NCFCheck::check_needles(const std::vector<std::string> &w)
+{
+  double dia = 0.0;
+  if (w.size() != 2 || !finite_number(w[1], dia) || !(dia > 0.0))
+    error->all(FLERR, "ncf/check: {}: expected 'needles FILE DIAMETER' (DIAMETER > 0), got '{}'",
+               script, join(w, 0));
+  if (!domain->box_exist)
+    error->all(FLERR, "ncf/check: {}: 'needles' needs a box (after read_data or read_restart)",
+               script);
+  const std::string &file = w[0];
+  std::vector<double> x, y;
+  NCF_LMP::read_needles(lmp, script, file, x, y);
+  if (x.empty()) error->all(FLERR, "{}: needle file {} lists no needle", script, file);
+  const double *lo = domain->boxlo, *hi = domain->boxhi;
+  for (std::size_t k = 0; k < x.size(); k++)
+    if (x[k] < lo[0] || x[k] > hi[0] || y[k] < lo[1] || y[k] > hi[1])
+      error->all(FLERR,
+                 "{}: needle file {}: needle {} at ({:.6g}, {:.6g}) lies outside the box (x {:.6g} .. "
+                 "{:.6g}, y {:.6g} .. {:.6g}): the needles of another fabric?",
+                 script, file, k + 1, x[k], y[k], lo[0], hi[0], lo[1], hi[1]);
+  for (int d = 0; d < 2; d++)
+    if (domain->periodicity[d] && dia >= hi[d] - lo[d])
+      error->all(FLERR,
+                 "{}: needle diameter {} is not smaller than the periodic box length {} in {}",
+                 script, dia, hi[d] - lo[d], d ? "y" : "x");
+  for (std::size_t a = 0; a < x.size(); a++)
+    for (std::size_t b = a + 1; b < x.size(); b++) {
+      double dxy[2] = {x[b] - x[a], y[b] - y[a]};
+      for (int d = 0; d < 2; d++)
+        if (domain->periodicity[d]) {
+          const double prd = hi[d] - lo[d];
+          dxy[d] -= prd * std::round(dxy[d] / prd);
+        }
+      const double dist = std::hypot(dxy[0], dxy[1]);
+      if (dist == 0.0)
+        error->all(FLERR, "{}: needle file {}: needles {} and {} are the same needle, at ({:.6g}, {:.6g})",
+                   script, file, a + 1, b + 1, x[a], y[a]);
+      if (dist < dia)
+        error->all(FLERR,
+                   "{}: needle file {}: needles {} and {} at ({:.6g}, {:.6g}) and ({:.6g}, {:.6g}) overlap: "
+                   "their centres are {:.6g} apart, less than the needle diameter {}",
+                   script, file, a + 1, b + 1, x[a], y[a], x[b], y[b], dist, dia);
+    }
 }
 
 /* ---------------------------------------------------------------------- */

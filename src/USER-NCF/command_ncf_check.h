@@ -38,6 +38,7 @@ class NCFCheck : public Command {
   void check_file(const std::vector<std::string> &);
   void check_settings(const std::vector<std::string> &);
   void check_restart(const std::vector<std::string> &);
+  void check_needles(const std::vector<std::string> &);
   void mark(const std::vector<std::string> &);
   // the variables a settings file defines (names), and the value of ncf_fabric ("" if none)
   bool read_settings(const std::string &file, std::vector<std::string> &names,

@@ -28,6 +28,7 @@
 #include "ncf_motion_lammps.h"
 #include "ncf_needle.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -130,6 +131,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   bool any = false;
   for (double d : chain_d) any |= d > 0.0;
   if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
+  const bool tip_given = tip >= 0.0, length_given = length >= 0.0;
   if (tip < 0.0) tip = radius;
   // the largest z margin of a segment (see post_force): its contact radius rc plus the height of
   // the point's cone at rc from its surface, for the largest chain diameter
@@ -138,6 +140,13 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   margin_max = 0.5 * dmax * (1.0 + tip / radius);
   dmax_chain = dmax;
   if (length < 0.0) length = domain->boxhi[2] - domain->boxlo[2];
+  if (length < NCF::needle_min_length(tip) && !tip_given && !length_given)
+    // (neither was given: the diameter, whose half is the default point, is what is off)
+    error->all(FLERR,
+               "fix ncf/needles: diameter {} is too large for the box: its default point (tip, "
+               "the radius {}) needs a needle of at least {}, longer than the box height {} (the "
+               "default length)",
+               2.0 * radius, radius, NCF::needle_min_length(tip), length);
   if (length < NCF::needle_min_length(tip))
     error->all(FLERR,
                "fix ncf/needles: length {} must be at least {} times tip {} (a point at each end "
@@ -146,9 +155,10 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
 
   NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
-  // needles that repeat or overlap (a needle file given twice, a diameter in the wrong unit): two
-  // shafts cannot share the holes of one stitching point; in a periodic direction a needle must
-  // also clear its own image
+  // a needle listed twice (a needle file given twice, 1 000 needles on one point) would act twice
+  // on every chain it touches; in a periodic direction a needle must also clear its own image.
+  // (Needles that overlap without repeating are the user's choice here; the stage scripts refuse
+  // them for their needle files, ncf/check needles.)
   for (int d = 0; d < 2; d++) {
     const double prd = domain->boxhi[d] - domain->boxlo[d];
     if (domain->periodicity[d] && 2.0 * radius >= prd)
@@ -157,22 +167,19 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                  "a needle would overlap its own image",
                  2.0 * radius, prd, d ? "y" : "x");
   }
-  for (std::size_t a = 0; a < nx.size(); a++)
-    for (std::size_t b = a + 1; b < nx.size(); b++) {
-      double dxy[2] = {nx[b] - nx[a], ny[b] - ny[a]};
-      for (int d = 0; d < 2; d++)
-        if (domain->periodicity[d]) {
-          const double prd = domain->boxhi[d] - domain->boxlo[d];
-          dxy[d] -= prd * std::round(dxy[d] / prd);
-        }
-      const double dist = std::hypot(dxy[0], dxy[1]);
-      if (dist < 2.0 * radius)
-        error->all(FLERR,
-                   "fix ncf/needles: needles {} and {} at ({}, {}) and ({}, {}) {}: their centres "
-                   "are {} apart, less than the diameter {}",
-                   a + 1, b + 1, nx[a], ny[a], nx[b], ny[b],
-                   dist == 0.0 ? "are the same needle" : "overlap", dist, 2.0 * radius);
+  {
+    std::vector<std::size_t> order(nx.size());
+    for (std::size_t k = 0; k < order.size(); k++) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return nx[a] < nx[b] || (nx[a] == nx[b] && (ny[a] < ny[b] || (ny[a] == ny[b] && a < b)));
+    });
+    for (std::size_t k = 1; k < order.size(); k++) {
+      const std::size_t a = order[k - 1], b = order[k];
+      if (nx[a] == nx[b] && ny[a] == ny[b])
+        error->all(FLERR, "fix ncf/needles: needles {} and {} are the same needle, at ({}, {})",
+                   std::min(a, b) + 1, std::max(a, b) + 1, nx[a], ny[a]);
     }
+  }
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);

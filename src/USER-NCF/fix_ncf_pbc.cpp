@@ -248,6 +248,14 @@ void FixNCFPBC::parse(int narg, char **arg)
     } else if (key == "from") {
       need(1);
       from_id = arg[iarg + 1];
+      // (LAMMPS removes a fix of the same ID before it makes the new one: there is nothing left
+      // to copy from)
+      if (from_id == id)
+        error->all(FLERR,
+                   "fix ncf/pbc: 'from {}' names this fix itself: LAMMPS removes the fix {} "
+                   "before the new one is made; define the new fix under another ID, then unfix "
+                   "{} (doc/fix_ncf_pbc.md, \"Order of fixes\")",
+                   from_id, from_id, from_id);
       iarg += 2;
     } else
       error->all(FLERR, "fix ncf/pbc: unknown keyword '{}'", key);

@@ -31,7 +31,7 @@ Words are split as the shell does (shlex). The prepared fabrics, in every case's
 (its settings without the variables of this ncf-gen), other (seed 8: another fabric), mix (small's
 settings with other's restart files), wrong (each stage's restart file is the one of the stage
 before it; the compaction's is the piercing's), longer (a card with longer stitches: another RVE
-size), nomark (restart files without a stage mark), norestart (no restart files), and a few
+size), farneedles (small with the needle file of another fabric), nomark (restart files without a stage mark), norestart (no restart files), and a few
 files for the tools (see prepare()).
 
 NCF_BAD_INPUT_SHOW=1 prints every case's message; NCF_BAD_INPUT_ONLY=NAME runs the cases whose
@@ -119,12 +119,13 @@ def prepare(base):
             must(lmp + ["-var", "prefix", fab, "-var", "out", out, "-var", "stage", stage,
                         "-var", "mark", str(mark)], base)
     gen = [".layers.data", ".yarn.data", ".needles", ".settings.lmp", ".yarn.lmp", ".summary"]
-    for fab in ("old", "mix", "wrong", "nomark", "norestart"):
+    for fab in ("old", "mix", "wrong", "nomark", "norestart", "farneedles"):
         for ext in gen:
             shutil.copy(os.path.join(base, "small" + ext), os.path.join(base, fab + ext))
     for k, stage in enumerate(STAGES[:4]):
-        shutil.copy(os.path.join(base, "small.%s.restart" % stage),
-                    os.path.join(base, "old.%s.restart" % stage))
+        for fab in ("old", "farneedles"):
+            shutil.copy(os.path.join(base, "small.%s.restart" % stage),
+                        os.path.join(base, "%s.%s.restart" % (fab, stage)))
         shutil.copy(os.path.join(base, "other.%s.restart" % stage),
                     os.path.join(base, "mix.%s.restart" % stage))
         if k > 0:
@@ -135,6 +136,9 @@ def prepare(base):
     with open(os.path.join(base, "longer.card"), "w") as f:
         f.write(card_text().replace("stitch_length   1.2 mm", "stitch_length   1.4 mm"))
     must(["ncf-gen", "longer.card", "-o", "longer", "-q"], base)
+    # the needle file of another fabric: a stitching point outside this fabric's box
+    with open(os.path.join(base, "farneedles.needles"), "w") as f:
+        f.write("6e-04 0.00127\n0.5 0.00127\n")
     # the settings of an older ncf-gen: without the fabric's identity, the needle pitch and the
     # quality preset's run parameters
     drop = ("variable ncf_fabric", "variable ncf_needle_pitch", "variable ncf_dtfrac",

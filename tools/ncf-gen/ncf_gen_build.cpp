@@ -513,6 +513,19 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
                      "': " + e.what() + " (materials file " + card.materials_file + ")");
   }
   const double dy = y.chain.diameter, ry = 0.5 * dy;
+  // a yarn chain wider than the needle pitch cannot pass between two needles: a packing far off
+  // (yarn_packing 1e-9 makes metres) or a yarn of another fabric; named before the checks of the
+  // meshes and paths that it would fail
+  if (dy >= f.needle_spacing) {
+    if (card.from_card("yarn_packing"))
+      throw InputError(at(card.path, line_of("yarn_packing", "yarn")) +
+                       ": key 'yarn_packing': value " + num(card.yarn_packing) +
+                       " gives the yarn '" + card.yarn + "' a diameter of " + num(dy) +
+                       " m, not narrower than the needle pitch " + num(f.needle_spacing) + " m");
+    throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
+                     "': yarn diameter " + num(dy) + " m is not narrower than the needle pitch " +
+                     num(f.needle_spacing) + " m (25.4 mm / gauge)");
+  }
   if (!card.from_card("yarn_mesh") && card.yarn_mesh < dy) {
     f.yarn_mesh_preset_raised = card.yarn_mesh;
     card.yarn_mesh = f.card.yarn_mesh = dy;
@@ -554,14 +567,39 @@ Fabric build_fabric(const Card &card_given, const NCF::MaterialLibrary &lib)
   y.z_loop = zloop;
   y.z_under = zunder;
   y.z_loop_out = zout;
-  if (2.0 * e + dy >= f.course)
+  if (2.0 * e + dy >= f.course) {
+    // the cause named: the card's leg_gap where the default gap would fit, a wide underlap of a
+    // running stitch (its legs k yarn diameters apart) where one needle would, else the yarn
+    const double course_mm = f.course * 1e3;
+    const int k = card.knit ? 1 : std::max(1, kmax);
+    const double e_default = 0.5 * 1.02 * dy * k;
+    if (card.from_card("leg_gap") && 2.0 * e_default + dy < f.course)
+      throw InputError(at(card.path, line_of("leg_gap", "yarn")) + ": key 'leg_gap': value " +
+                       num(card.leg_gap) + " puts the two legs of a hole " + num(2.0 * e * 1e3) +
+                       " mm apart, which with the yarn diameter " + num(dy * 1e3) +
+                       " mm does not fit the course spacing " + num(course_mm) +
+                       " mm (legs of neighbouring holes overlap)");
+    if (k > 1 && 2.0 * 0.5 * card.leg_gap * dy + dy < f.course)
+      throw InputError(at(card.path, card.pattern_line) + ": key 'pattern': value '" +
+                       card.pattern.text + "': its underlap over " + std::to_string(k) +
+                       " needles (running stitch) puts the two legs of a hole " +
+                       num(2.0 * e * 1e3) + " mm apart, which does not fit the course spacing " +
+                       num(course_mm) + " mm (legs of neighbouring holes overlap)");
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
                      "': yarn diameter " + num(dy) +
                      " m is too large for the stitch length (legs of neighbouring holes overlap)");
+  }
   if (card.knit && 2.0 * G + (1.0 + LEVEL_MARGIN) * dy >= f.needle_spacing)
     throw InputError(at(card.path, card.yarn_line) + ": key 'yarn': value '" + card.yarn +
                      "': yarn diameter " + num(dy) +
                      " m is too large for the gauge (the loops of neighbouring needles overlap)");
+  // the stitching points of two courses are a stitch length apart along x: the needles (narrower
+  // than the needle pitch, read_card) must be narrower than that too
+  if (card.needle_diameter >= f.course)
+    throw InputError(at(card.path, line_of("needle_diameter", "stitch_length")) +
+                     ": key 'needle_diameter': " + num(card.needle_diameter * 1e3) +
+                     " mm is not narrower than the stitch length " + num(f.course * 1e3) +
+                     " mm (the needles of two courses would overlap)");
   const std::vector<int> &needle = card.pattern.needle;
   const int p = card.pattern.repeat;
   // the yarn nodes and the needles, counted before any is made
