@@ -5,6 +5,8 @@
 
 #include "ncf_gen.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -218,6 +220,9 @@ const QualityPreset *find_quality(const std::string &name)
 
 Card read_card(const std::string &path)
 {
+  struct stat st;
+  if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    throw InputError(path + ": is a folder, not a fabric card");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the fabric card");
   std::stringstream buf;

@@ -9,6 +9,7 @@
 
 #include "ncf_gen.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,10 +22,35 @@ int main(int argc, char **argv)
   NCFGEN::Overrides ov;
   auto positive_int = [](const char *s, long long &v) {
     char *end = nullptr;
+    errno = 0;
     v = std::strtoll(s, &end, 10);
-    return end != s && *end == '\0' && v >= 0;
+    // (out of the range of a 64-bit integer: refused, not clamped)
+    return end != s && *end == '\0' && errno != ERANGE && v >= 0;
   };
+  // an option at the end of the line without its value(s)
+  auto needs = [&](int i, int n, const char *what) {
+    if (i + n < argc) return true;
+    std::fprintf(stderr, "ncf-gen: option %s needs %s\n", argv[i], what);
+    return false;
+  };
+  std::string given;    // the options seen, " -o -rve ..."
   for (int i = 1; i < argc; i++) {
+    for (const char *opt : {"-o", "-rve", "-seed"})
+      if (!std::strcmp(argv[i], opt)) {
+        if (given.find(std::string(" ") + opt + " ") != std::string::npos) {
+          std::fprintf(stderr, "ncf-gen: option %s given twice\n", opt);
+          return 2;
+        }
+        given += std::string(" ") + opt + " ";
+      }
+    if (!std::strcmp(argv[i], "-o") && !needs(i, 1, "a prefix (-o PREFIX)")) return 2;
+    if (!std::strcmp(argv[i], "-o") && argv[i + 1][0] == '-') {
+      // (an option where the prefix belongs: files named '-q.layers.data' are not wanted)
+      std::fprintf(stderr, "ncf-gen: option -o needs a prefix, got the option '%s'\n", argv[i + 1]);
+      return 2;
+    }
+    if (!std::strcmp(argv[i], "-rve") && !needs(i, 2, "two integers (-rve R_W R_L)")) return 2;
+    if (!std::strcmp(argv[i], "-seed") && !needs(i, 1, "an integer (-seed N)")) return 2;
     if (!std::strcmp(argv[i], "-o") && i + 1 < argc) {
       prefix = argv[++i];
     } else if (!std::strcmp(argv[i], "-rve") && i + 2 < argc) {
