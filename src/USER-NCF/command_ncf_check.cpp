@@ -66,8 +66,9 @@ bool valid_name(const std::string &s)
 void NCFCheck::command(int narg, char **arg)
 {
   if (narg < 2)
-    error->all(FLERR, "ncf/check: expected 'ncf/check SCRIPT var|required|file|settings|restart|mark "
-                      "...', got {} argument(s)",
+    error->all(FLERR,
+               "ncf/check: expected 'ncf/check SCRIPT var|required|file|settings|restart|mark "
+               "...', got {} argument(s)",
                narg);
   script = arg[0];
   const std::string kind = arg[1];
@@ -122,8 +123,8 @@ void NCFCheck::check_var(const std::vector<std::string> &w)
     return;
   }
   if (type != "number" && type != "integer")
-    error->all(FLERR, "ncf/check: {}: unknown type '{}' (expected number, integer or word)",
-               script, type);
+    error->all(FLERR, "ncf/check: {}: unknown type '{}' (expected number, integer or word)", script,
+               type);
 
   double v = 0.0;
   if (type == "integer") {
@@ -216,7 +217,8 @@ void NCFCheck::check_settings(const std::vector<std::string> &w)
   std::vector<std::string> names;
   std::string fabric;
   if (!read_settings(w[0], names, fabric))
-    error->all(FLERR, "{}: cannot read the settings file {}: {} (ncf-gen writes PREFIX.settings.lmp)",
+    error->all(FLERR,
+               "{}: cannot read the settings file {}: {} (ncf-gen writes PREFIX.settings.lmp)",
                script, w[0], utils::getsyserror());
   std::vector<std::string> missing;
   for (std::size_t i = 1; i < w.size(); i++) {
@@ -262,19 +264,22 @@ void NCFCheck::check_restart(const std::vector<std::string> &w)
   std::vector<std::string> names;
   std::string fabric;
   if (!read_settings(settings, names, fabric))
-    error->all(FLERR, "{}: cannot read the settings file {}: {} (ncf-gen writes PREFIX.settings.lmp)",
+    error->all(FLERR,
+               "{}: cannot read the settings file {}: {} (ncf-gen writes PREFIX.settings.lmp)",
                script, settings, utils::getsyserror());
   if (fabric.empty())
-    error->all(FLERR,
-               "{}: the settings file {} defines no variable ncf_fabric: it was written by an older "
-               "ncf-gen; generate the fabric again (ncf-gen CARD -o PREFIX)",
-               script, settings);
+    error->all(
+        FLERR,
+        "{}: the settings file {} defines no variable ncf_fabric: it was written by an older "
+        "ncf-gen; generate the fabric again (ncf-gen CARD -o PREFIX)",
+        script, settings);
   const std::string rfabric = marker(FABRIC_GROUP);
   if (rfabric != fabric)
-    error->all(FLERR,
-               "{}: restart file {} is of fabric {}, the settings file {} of fabric {} (ncf_fabric): "
-               "give the prefix of the fabric the restart file was made from",
-               script, file, rfabric.empty() ? "(none)" : rfabric, settings, fabric);
+    error->all(
+        FLERR,
+        "{}: restart file {} is of fabric {}, the settings file {} of fabric {} (ncf_fabric): "
+        "give the prefix of the fabric the restart file was made from",
+        script, file, rfabric.empty() ? "(none)" : rfabric, settings, fabric);
 }
 
 /* ----------------------------------------------------------------------
@@ -299,10 +304,11 @@ void NCFCheck::check_needles(const std::vector<std::string> &w)
   const double *lo = domain->boxlo, *hi = domain->boxhi;
   for (std::size_t k = 0; k < x.size(); k++)
     if (x[k] < lo[0] || x[k] > hi[0] || y[k] < lo[1] || y[k] > hi[1])
-      error->all(FLERR,
-                 "{}: needle file {}: needle {} at ({:.6g}, {:.6g}) lies outside the box (x {:.6g} .. "
-                 "{:.6g}, y {:.6g} .. {:.6g}): the needles of another fabric?",
-                 script, file, k + 1, x[k], y[k], lo[0], hi[0], lo[1], hi[1]);
+      error->all(
+          FLERR,
+          "{}: needle file {}: needle {} at ({:.6g}, {:.6g}) lies outside the box (x {:.6g} .. "
+          "{:.6g}, y {:.6g} .. {:.6g}): the needles of another fabric?",
+          script, file, k + 1, x[k], y[k], lo[0], hi[0], lo[1], hi[1]);
   for (int d = 0; d < 2; d++)
     if (domain->periodicity[d] && dia >= hi[d] - lo[d])
       error->all(FLERR,
@@ -318,11 +324,13 @@ void NCFCheck::check_needles(const std::vector<std::string> &w)
         }
       const double dist = std::hypot(dxy[0], dxy[1]);
       if (dist == 0.0)
-        error->all(FLERR, "{}: needle file {}: needles {} and {} are the same needle, at ({:.6g}, {:.6g})",
+        error->all(FLERR,
+                   "{}: needle file {}: needles {} and {} are the same needle, at ({:.6g}, {:.6g})",
                    script, file, a + 1, b + 1, x[a], y[a]);
       if (dist < dia)
         error->all(FLERR,
-                   "{}: needle file {}: needles {} and {} at ({:.6g}, {:.6g}) and ({:.6g}, {:.6g}) overlap: "
+                   "{}: needle file {}: needles {} and {} at ({:.6g}, {:.6g}) and ({:.6g}, {:.6g}) "
+                   "overlap: "
                    "their centres are {:.6g} apart, less than the needle diameter {}",
                    script, file, a + 1, b + 1, x[a], y[a], x[b], y[b], dist, dia);
     }

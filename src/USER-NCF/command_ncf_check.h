@@ -41,8 +41,7 @@ class NCFCheck : public Command {
   void check_needles(const std::vector<std::string> &);
   void mark(const std::vector<std::string> &);
   // the variables a settings file defines (names), and the value of ncf_fabric ("" if none)
-  bool read_settings(const std::string &file, std::vector<std::string> &names,
-                     std::string &fabric);
+  bool read_settings(const std::string &file, std::vector<std::string> &names, std::string &fabric);
   // the suffix of the first group named PREFIX*, "" when there is none
   std::string marker(const char *prefix);
 };

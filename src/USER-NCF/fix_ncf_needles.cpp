@@ -162,10 +162,11 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   for (int d = 0; d < 2; d++) {
     const double prd = domain->boxhi[d] - domain->boxlo[d];
     if (domain->periodicity[d] && 2.0 * radius >= prd)
-      error->all(FLERR,
-                 "fix ncf/needles: diameter {} is not smaller than the periodic box length {} in {}: "
-                 "a needle would overlap its own image",
-                 2.0 * radius, prd, d ? "y" : "x");
+      error->all(
+          FLERR,
+          "fix ncf/needles: diameter {} is not smaller than the periodic box length {} in {}: "
+          "a needle would overlap its own image",
+          2.0 * radius, prd, d ? "y" : "x");
   }
   {
     std::vector<std::size_t> order(nx.size());

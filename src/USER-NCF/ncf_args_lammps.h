@@ -115,7 +115,8 @@ class KeywordsOnce {
  public:
   KeywordsOnce(LAMMPS_NS::LAMMPS *lmp, const std::string &what,
                std::vector<std::string> repeatable = {}) :
-      lmp(lmp), what(what), repeatable(std::move(repeatable))
+      lmp(lmp),
+      what(what), repeatable(std::move(repeatable))
   {
   }
   // `group`: the name under which the keyword counts (alternatives of one setting share it)

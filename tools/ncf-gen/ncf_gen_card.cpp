@@ -9,9 +9,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -496,8 +496,8 @@ Card parse_card(const std::string &text, const std::string &path)
     if (hi >= 0 && hi - lo >= card.gauge)
       fail(at(path, card.pattern_line),
            "key 'pattern': the lapping numbers of '" + card.pattern.text + "' span " +
-               std::to_string(hi - lo) + " needles, beyond the gauge (" +
-               num(card.gauge) + " needles per inch)");
+               std::to_string(hi - lo) + " needles, beyond the gauge (" + num(card.gauge) +
+               " needles per inch)");
   }
 
   // the materials file: relative to the card's folder, else to $NCF_ROOT, else the default
