@@ -26,21 +26,47 @@
 set -eEuo pipefail
 trap 'echo "[manufacturing] run.sh: stopped by a failing command (status $?), line $LINENO: $BASH_COMMAND"' ERR
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-out=$(mkdir -p "${1:-$here/out}" && cd "${1:-$here/out}" && pwd)
+dest=${1:-$here/out}
 shift || true
 fabrics=("$@")
 [ ${#fabrics[@]} -gt 0 ] || fabrics=(ncf45 ncf090)
-: "${NCF_BUILD:=$here/../../build}"
-source "$NCF_BUILD/ncf-env.sh"
+# the inputs, checked before anything is made (the stage variables are checked by the stage
+# scripts themselves, ncf/check; NCF_PDYN by in.compact's pdyn)
 np=${NCF_NP:-1}
-# the compaction's dynamic pressure only when asked for: else the card's quality preset sets it
-pdyn_arg=()
-[ -n "${NCF_PDYN:-}" ] && pdyn_arg=(-var pdyn "$NCF_PDYN")
+[[ "$np" =~ ^[1-9][0-9]{0,3}$ ]] ||
+  { echo "run.sh: NCF_NP='$np' is not a number of MPI ranks (an integer 1..9999)"; exit 1; }
 stages_all=(compact pierce stitch pretension release)
 range=${NCF_STAGES:-1-5}
 first=${range%-*} last=${range#*-}
 [[ "$first" =~ ^[1-5]$ && "$last" =~ ^[1-5]$ && $first -le $last ]] ||
   { echo "run.sh: NCF_STAGES='$range' is not a stage range like 1-5 or 3"; exit 1; }
+[ -z "${NCF_SEED:-}" ] || [[ "$NCF_SEED" =~ ^[0-9]{1,18}$ ]] ||
+  { echo "run.sh: NCF_SEED='$NCF_SEED' is not a seed (an integer >= 0)"; exit 1; }
+[ -z "${NCF_RVE:-}" ] || [[ "$NCF_RVE" =~ ^[1-9][0-9]{0,3}\ [1-9][0-9]{0,3}$ ]] ||
+  { echo "run.sh: NCF_RVE='$NCF_RVE' is not 'R_W R_L' (two integers >= 1)"; exit 1; }
+# the cards, relative to the folder run.sh is started from
+cards=()
+for fab in "${fabrics[@]}"; do
+  if [[ "$fab" == *.card ]]; then
+    [ -f "$fab" ] || { echo "run.sh: no fabric card '$fab'"; exit 1; }
+    cards+=("$(cd "$(dirname "$fab")" && pwd)/$(basename "$fab")")
+  else
+    card="$here/../gen-$fab/$fab.card"
+    [ -f "$card" ] ||
+      { echo "run.sh: no fabric card '$fab' ($card; give ncf45, ncf090 or the path of a card)"; exit 1; }
+    cards+=("$card")
+  fi
+done
+if [ -e "$dest" ] && [ ! -d "$dest" ]; then
+  echo "run.sh: OUT '$dest' exists and is not a folder"
+  exit 1
+fi
+out=$(mkdir -p "$dest" && cd "$dest" && pwd)
+: "${NCF_BUILD:=$here/../../build}"
+source "$NCF_BUILD/ncf-env.sh"
+# the compaction's dynamic pressure only when asked for: else the card's quality preset sets it
+pdyn_arg=()
+[ -n "${NCF_PDYN:-}" ] && pdyn_arg=(-var pdyn "$NCF_PDYN")
 
 run_lmp() { if [ "$np" -gt 1 ]; then mpirun -np "$np" --oversubscribe lmp "$@"; else lmp "$@"; fi; }
 
@@ -89,13 +115,7 @@ run_stage() {    # fab index name
 }
 
 cd "$out"
-for fab in "${fabrics[@]}"; do
-  if [[ "$fab" == *.card ]]; then
-    card=$(cd "$(dirname "$fab")" && pwd)/$(basename "$fab")
-  else
-    card="$here/../gen-$fab/$fab.card"
-  fi
-  [ -f "$card" ] || { echo "run.sh: no fabric card '$fab' ($card)"; exit 1; }
+for card in "${cards[@]}"; do
   # the output prefix: the card's name
   name=$(awk '$1 == "name" { print $2; exit }' "$card")
   name=${name:-$(basename "$card" .card)}

@@ -12,6 +12,9 @@
 #include "utils.h"
 #include "variable.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include "ncf_args_lammps.h"
 
 #include <cctype>
@@ -56,6 +59,7 @@ bool valid_name(const std::string &s)
    ncf/check SCRIPT var NAME VALUE word W1 W2 ... about TEXT ...
    ncf/check SCRIPT required NAME about TEXT ...
    ncf/check SCRIPT file PATH about TEXT ...
+   ncf/check SCRIPT folder NAME PATH about TEXT ...
    ncf/check SCRIPT settings FILE VAR1 VAR2 ...
    ncf/check SCRIPT restart FILE STAGE SETTINGS
    ncf/check SCRIPT needles FILE DIAMETER
@@ -80,6 +84,8 @@ void NCFCheck::command(int narg, char **arg)
     check_required(w);
   else if (kind == "file")
     check_file(w);
+  else if (kind == "folder")
+    check_folder(w);
   else if (kind == "settings")
     check_settings(w);
   else if (kind == "restart")
@@ -90,8 +96,8 @@ void NCFCheck::command(int narg, char **arg)
     mark(w);
   else
     error->all(FLERR,
-               "ncf/check: {}: unknown check '{}' (expected var, required, file, settings, "
-               "restart, needles or mark)",
+               "ncf/check: {}: unknown check '{}' (expected var, required, file, folder, "
+               "settings, restart, needles or mark)",
                script, kind);
 }
 
@@ -188,6 +194,24 @@ void NCFCheck::check_file(const std::vector<std::string> &w)
     error->all(FLERR, "{}: cannot read file {}: {} ({})", script, w[0], utils::getsyserror(),
                join(w, 2));
   std::fclose(fp);
+}
+
+/* ----------------------------------------------------------------------
+   an output folder given by the variable NAME: it must exist and be writable
+------------------------------------------------------------------------- */
+
+void NCFCheck::check_folder(const std::vector<std::string> &w)
+{
+  if (w.size() < 4 || w[2] != "about")
+    error->all(FLERR, "ncf/check: {}: expected 'folder NAME PATH about TEXT', got '{}'", script,
+               join(w, 0));
+  struct stat st;
+  if (stat(w[1].c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    error->all(FLERR, "{}: variable {} = {}: not an existing folder ({})", script, w[0], w[1],
+               join(w, 3));
+  if (access(w[1].c_str(), W_OK) != 0)
+    error->all(FLERR, "{}: variable {} = {}: the folder is not writable ({})", script, w[0], w[1],
+               join(w, 3));
 }
 
 /* ---------------------------------------------------------------------- */

@@ -36,6 +36,7 @@ class NCFCheck : public Command {
   void check_var(const std::vector<std::string> &);
   void check_required(const std::vector<std::string> &);
   void check_file(const std::vector<std::string> &);
+  void check_folder(const std::vector<std::string> &);
   void check_settings(const std::vector<std::string> &);
   void check_restart(const std::vector<std::string> &);
   void check_needles(const std::vector<std::string> &);

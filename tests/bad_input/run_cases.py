@@ -26,6 +26,7 @@ COMMAND is one of
                            when there is none), add LINE, drop KEY, bom (a UTF-8 byte-order mark
                            first), args ARGS... (ncf-gen's options after the card)
     tool NAME ARGS...      the tool NAME of the build folder with ARGS
+    run [VAR=VALUE...] ARGS...  examples/manufacturing/run.sh ARGS with those environment variables
 Words are split as the shell does (shlex). The prepared fabrics, in every case's folder: small
 (the small card generated, with restart files of every stage written by stage_restart.lmp), old
 (its settings without the variables of this ncf-gen), other (seed 8: another fabric), mix (small's
@@ -230,6 +231,10 @@ def command(case, folder):
     if kind == "lmp":
         a = shlex.split(rest)
         return ["lmp", "-log", "none", "-echo", "none", "-in", os.path.join(HERE, "in." + a[0])] + a[1:]
+    if kind == "run":
+        a = shlex.split(rest)
+        return ["env"] + a[:next((i for i, w in enumerate(a) if "=" not in w), len(a))] + \
+            ["bash", os.path.join(HERE, "run.sh")] + [w for w in a if "=" not in w]
     if kind == "gen":
         return gen_command(rest, folder)
     if kind == "tool":
