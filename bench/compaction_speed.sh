@@ -20,6 +20,7 @@ ncf-gen "$root/examples/needles/mini.card" -o mini -q
 for p in "${levels[@]}"; do
   mkdir -p "run_$p"
   lmp -in "$root/examples/manufacturing/in.compact" -var prefix mini -var pdyn "$p" \
+    -var here "$root/examples/manufacturing" \
     -var out "run_$p" -var hold 1000 -log "mini.$p.log" -screen none
 done
 python3 - "${levels[@]}" <<'PY'
