@@ -623,8 +623,21 @@ void FixNCFPBC::post_force(int vflag)
     }
     for (int d = 0; d < 3; d++) f[i][d] += fc[d];
     if (evflag) {
+      // the periodic virial: a node on the + face counts at its partner's place on the - face
+      // (its position less the box vector of its face pair), as if the chain went on through the
+      // face into the next cell; with the unwrapped position alone the constraint's virial would
+      // cancel the load the chains carry across the faces (a tensioned periodic chain would show
+      // no stress)
       double xu[3], vv[6];
       domain->unmap(x[i], image[i], xu);
+      if (e.weight > 0.0) {
+        if (e.pair == 0) {
+          xu[0] -= domain->xprd;
+        } else {
+          xu[0] -= domain->xy;
+          xu[1] -= domain->yprd;
+        }
+      }
       vv[0] = xu[0] * fc[0];
       vv[1] = xu[1] * fc[1];
       vv[2] = xu[2] * fc[2];

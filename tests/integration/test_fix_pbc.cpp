@@ -618,3 +618,44 @@ run 20000
   box_lo(l, lo);
   EXPECT_LT(normal_hold_error(xref, x, face_codes(mat), href, href, lo), 1e-10 * LX);
 }
+
+// The virial of the constraint forces is the periodic one: straight chains along x, their ends on
+// the x faces, stretched by 0.1 % with the box and at rest, carry a tension T each (from their
+// bond lengths: EA (l - l0)/l0), and the virial of the whole system is -sum T lx, the stress of a
+// periodic fabric. (With the end nodes at their unwrapped places the constraint forces would
+// cancel it: a tensioned fabric without stress.)
+TEST(FixPBC, VirialIsThePeriodicStressOfTensionedChains)
+{
+  auto dir = scratch_dir("pbc_virial");
+  auto mat = write_mat(dir, 0.0, 3);
+  const double EA = 120e9 * M_PI / 4 * 69e-6 * 69e-6;
+  for (const std::string mode : {"free", "hold"}) {
+    Lammps l;
+    load_mat(l, mat);
+    l.cmds(R"(
+fix nve all nve
+fix damp all viscous 2e-4
+fix stretch all deform 1 x scale 1.001 remap x
+)");
+    l.cmd("fix pbc ends ncf/pbc faces x normal " + mode);
+    l.cmds(R"(
+timestep 5e-9
+run 5000
+unfix stretch
+run 20000
+compute vir all pressure NULL virial
+thermo_style custom step c_vir[1] vol
+run 0
+)");
+    // the tension of each chain from its bonds (straight and uniform at rest)
+    const double lx = l.value("lx"), pxxV = l.value("c_vir[1]") * l.value("vol");
+    const double l0 = MAT_LX / 10, lbar = lx / 10;    // 10 elements per chain, straight along x
+    const double T = EA * (lbar - l0) / l0;
+    const double expect = -mat.nchain * T * lx;
+    std::printf("[measured] normal %s: chains stretched 0.1 %%, tension %.5g N each; virial xx "
+                "%.6g N m, expected -n T lx = %.6g N m\n",
+                mode.c_str(), T, pxxV, expect);
+    EXPECT_GT(T, 0.5 * EA * 1e-3);
+    EXPECT_NEAR(pxxV, expect, 1e-3 * std::fabs(expect));
+  }
+}
