@@ -88,10 +88,15 @@ run_stage() {    # fab index name
   echo "[manufacturing] $fab stage $k/5 $name done in $((SECONDS - t0)) s ($(progress "$log" 0 | sed 's/,.*//'))"
 }
 
+# card paths relative to where run.sh was called from
+for i in "${!fabrics[@]}"; do
+  f=${fabrics[i]}
+  if [[ "$f" == *.card && -f "$f" ]]; then fabrics[i]=$(cd "$(dirname "$f")" && pwd)/$(basename "$f"); fi
+done
 cd "$out"
 for fab in "${fabrics[@]}"; do
   if [[ "$fab" == *.card ]]; then
-    card=$(cd "$(dirname "$fab")" && pwd)/$(basename "$fab")
+    card=$fab
   else
     card="$here/../gen-$fab/$fab.card"
   fi
