@@ -114,6 +114,7 @@ run_stage() {    # fab index name
   echo "[manufacturing] $fab stage $k/5 $name done in $((SECONDS - t0)) s ($(progress "$log" 0 | sed 's/,.*//'))"
 }
 
+# (the card paths were resolved relative to where run.sh was called from, above: cards)
 cd "$out"
 for card in "${cards[@]}"; do
   # the output prefix: the card's name

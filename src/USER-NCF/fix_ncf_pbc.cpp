@@ -98,8 +98,10 @@ FixNCFPBC::FixNCFPBC(LAMMPS *lmp, int narg, char **arg) :
   extscalar = 0;
   extvector = 0;
   restart_global = 1;
-  virial_global_flag = virial_peratom_flag = 1;
-  thermo_virial = 1;
+  // no virial: the constraint forces do no work under a box deformation (fix deform's remap
+  // keeps every group's constraint and every hold as they are, so they are workless), and the
+  // stress of the periodic fabric is the virial of its bonds and contacts alone; counted, they
+  // would add the in-face offsets of the end nodes times their multipliers (doc/fix_ncf_pbc.md)
   dynamic_group_allow = 0;
 
   pair_on[0] = pair_on[1] = 1;
@@ -541,9 +543,8 @@ void FixNCFPBC::find_mine()
    dynamics: constraint forces that make every C_g vanish at the next step
 ------------------------------------------------------------------------- */
 
-void FixNCFPBC::post_force(int vflag)
+void FixNCFPBC::post_force(int /*vflag*/)
 {
-  v_init(vflag);
   double **x = atom->x, **v = atom->v, **f = atom->f;
   imageint *image = atom->image;
   double *rmass = atom->rmass, *mass = atom->mass;
@@ -632,17 +633,6 @@ void FixNCFPBC::post_force(int vflag)
       fc[u] += acoup[p] * lam;
     }
     for (int d = 0; d < 3; d++) f[i][d] += fc[d];
-    if (evflag) {
-      double xu[3], vv[6];
-      domain->unmap(x[i], image[i], xu);
-      vv[0] = xu[0] * fc[0];
-      vv[1] = xu[1] * fc[1];
-      vv[2] = xu[2] * fc[2];
-      vv[3] = xu[0] * fc[1];
-      vv[4] = xu[0] * fc[2];
-      vv[5] = xu[1] * fc[2];
-      v_tally(i, vv);
-    }
   }
   // the node multipliers of the last step of a run and of a restart-writing step, for the setup
   // of the next run (on whichever rank owns the node then)

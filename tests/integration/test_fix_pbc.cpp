@@ -618,3 +618,108 @@ run 20000
   box_lo(l, lo);
   EXPECT_LT(normal_hold_error(xref, x, face_codes(mat), href, href, lo), 1e-10 * LX);
 }
+
+// The stress of the periodic fabric is the virial of its bonds (and contacts): straight chains
+// along x, their ends on the x faces, stretched by 0.1 % with the box and at rest, carry a tension
+// T each (from their bond lengths, EA (l - l0)/l0), and the virial of the whole system is
+// -sum T lx. The constraint forces add nothing: counted with the end nodes at their unwrapped
+// places they would cancel it exactly (a tensioned fabric without stress).
+TEST(FixPBC, VirialIsThePeriodicStressOfTensionedChains)
+{
+  auto dir = scratch_dir("pbc_virial");
+  auto mat = write_mat(dir, 0.0, 3);
+  const double EA = 120e9 * M_PI / 4 * 69e-6 * 69e-6;
+  for (const std::string mode : {"free", "hold"}) {
+    Lammps l;
+    load_mat(l, mat);
+    l.cmds(R"(
+fix nve all nve
+fix damp all viscous 2e-4
+fix stretch all deform 1 x scale 1.001 remap x
+)");
+    l.cmd("fix pbc ends ncf/pbc faces x normal " + mode);
+    l.cmds(R"(
+timestep 5e-9
+run 5000
+unfix stretch
+run 20000
+compute vir all pressure NULL virial
+thermo_style custom step c_vir[1] vol
+run 0
+)");
+    // the tension of each chain from its bonds (straight and uniform at rest)
+    const double lx = l.value("lx"), pxxV = l.value("c_vir[1]") * l.value("vol");
+    const double l0 = MAT_LX / 10, lbar = lx / 10;    // 10 elements per chain, straight along x
+    const double T = EA * (lbar - l0) / l0;
+    const double expect = -mat.nchain * T * lx;
+    std::printf("[measured] normal %s: chains stretched 0.1 %%, tension %.5g N each; virial xx "
+                "%.6g N m, expected -n T lx = %.6g N m\n",
+                mode.c_str(), T, pxxV, expect);
+    EXPECT_GT(T, 0.5 * EA * 1e-3);
+    EXPECT_NEAR(pxxV, expect, 1e-3 * std::fabs(expect));
+  }
+}
+
+// The work of a box deformation computed from the virial, -int W : L dt with L = dh/dt h^-1, is
+// the energy the fabric stores: chains at sigma = 3 deg, no damping, stretched by 1 % and sheared
+// by fix deform while they vibrate, under both normal modes. This is what the virtual shear test
+// measures its force with; a constraint virial breaks it (counted with the + face nodes at their
+// partners' places, the in-face offsets of the end nodes times their multipliers: 3.3e-4 here,
+// 20x the stored energy on a stitched +-45 fabric; at their unwrapped places: no stress at all).
+TEST(FixPBC, WorkOfTheBoxFromTheVirialIsTheEnergyStored)
+{
+  auto dir = scratch_dir("pbc_work");
+  auto mat = write_mat(dir, 3.0, 21);
+  for (const std::string mode : {"free", "hold"}) {
+    Lammps l;
+    load_mat(l, mat);
+    l.cmd("change_box all triclinic");
+    l.cmds(R"(
+fix nve all nve
+fix deform all deform 1 x erate 1000 xy erate 2000 remap x
+)");
+    l.cmd("fix pbc ends ncf/pbc faces x normal " + mode);
+    l.cmds(R"(
+compute vir all pressure NULL virial
+compute pe all pe
+compute ke all ke
+thermo_style custom step c_vir[1] c_vir[2] c_vir[4] vol c_pe c_ke lx ly xy
+thermo 10
+timestep 1e-9
+run 0
+)");
+    struct State {
+      double lx, ly, xy, wxx, wyy, wxy, e;
+    };
+    auto state = [&]() {
+      const double vol = l.value("vol");
+      return State{l.value("lx"),
+                   l.value("ly"),
+                   l.value("xy"),
+                   l.value("c_vir[1]") * vol,
+                   l.value("c_vir[2]") * vol,
+                   l.value("c_vir[4]") * vol,
+                   l.value("c_pe") + l.value("c_ke")};
+    };
+    State a = state();
+    const double e0 = a.e;
+    double work = 0.0;
+    for (int k = 0; k < 1000; k++) {
+      l.cmd("run 10 post no");
+      const State b = state();
+      // midpoint rule: L dt = dh h^-1 at the mean box, the mean virial
+      const double mlx = 0.5 * (a.lx + b.lx), mly = 0.5 * (a.ly + b.ly), mxy = 0.5 * (a.xy + b.xy);
+      const double Lxx = (b.lx - a.lx) / mlx, Lyy = (b.ly - a.ly) / mly,
+                   Lxy = (b.xy - a.xy) / mly - (b.lx - a.lx) * mxy / (mlx * mly);
+      work -= 0.5 * ((a.wxx + b.wxx) * Lxx + (a.wyy + b.wyy) * Lyy + (a.wxy + b.wxy) * Lxy);
+      a = b;
+    }
+    const double stored = a.e - e0;
+    std::printf("[measured] normal %s: work of the box from the virial %.6g J, energy stored "
+                "%.6g J (relative difference %.2g)\n",
+                mode.c_str(), work, stored, (work - stored) / stored);
+    EXPECT_GT(a.lx, 1.009 * MAT_LX);    // the deformation happened
+    EXPECT_GT(stored, 0.0);
+    EXPECT_NEAR(work, stored, 5e-5 * stored);    // (time discretisation: 1.7e-5 measured)
+  }
+}

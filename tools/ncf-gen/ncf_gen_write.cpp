@@ -201,6 +201,13 @@ std::string settings_text(const Fabric &f, const std::string &prefix, const std:
       "  # contact diameter of every filament chain [m]\n";
   s += "variable ncf_d_yarn equal " + g(f.yarn.chain.diameter) +
       "  # contact diameter of the stitching yarn [m]\n";
+  // the fibre volume fraction of the compacted mat and the filament modulus, for the virtual tests
+  // (V_f = V_L sum(t_L) / thickness; Toll's law P = k E_f (V_f^n - V_0^n))
+  s += "variable ncf_V_L equal " + g(f.card.v_l) +
+      "  # fibre volume fraction of the mat at sum(t_L), Eq. 1 [-]\n";
+  s += "variable ncf_E_fibre equal " +
+      g(f.layers.front().chain.modulus / f.layers.front().chain.packing) +
+      "  # filament modulus of layer 1 [Pa]\n";
   std::string orient;
   for (int i = 0; i < nl; i++)
     orient += (i ? " " : "") + std::string("layer ") + std::to_string(i + 1) + " " +
