@@ -19,6 +19,7 @@ Corpus format, one case per line ('#' lines and blank lines are comments):
 COMMAND is one of
     lmp SCRIPT ARGS...     lmp -in examples/manufacturing/in.SCRIPT ARGS (nothing added)
     stage SCRIPT ARGS...   lmp -in examples/manufacturing/in.SCRIPT -var prefix small -var here ...
+    vt SCRIPT ARGS...      lmp -in examples/virtual-tests/in.SCRIPT -var prefix small -var here ...
                            ARGS (ARGS come first: LAMMPS keeps the first -var, so -var prefix P
                            in ARGS picks one of the prepared fabrics below)
     gen EDIT; EDIT...      ncf-gen on examples/manufacturing/small.card with edits:
@@ -228,6 +229,11 @@ def command(case, folder):
         a = shlex.split(rest)
         return ["lmp", "-log", "none", "-echo", "none", "-in", os.path.join(HERE, "in." + a[0])] + \
             a[1:] + ["-var", "prefix", "small", "-var", "here", HERE]
+    if kind == "vt":    # the virtual tests (examples/virtual-tests), on the prepared fabric small
+        a = shlex.split(rest)
+        vt = os.path.join(ROOT, "examples", "virtual-tests")
+        return ["lmp", "-log", "none", "-echo", "none", "-in", os.path.join(vt, "in." + a[0])] + \
+            a[1:] + ["-var", "prefix", "small", "-var", "here", vt]
     if kind == "lmp":
         a = shlex.split(rest)
         return ["lmp", "-log", "none", "-echo", "none", "-in", os.path.join(HERE, "in." + a[0])] + a[1:]
