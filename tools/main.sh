@@ -7,6 +7,8 @@
 #      checks of every stage, the as-manufactured fabric
 #   3. a periodic chain network: yarn pretension (stage 1, restart), stretch (stage 2), with the
 #      box stress checked against the rod model
+#   then the released fabrics exported with their permeability, and their virtual tests, short
+#   versions (examples/virtual-tests): compaction to 5 bar and back, shear to 20 deg both senses
 # Usage: bash tools/main.sh [OUT]      (default OUT: ./out)
 # Environment: NCF_NP (MPI ranks of the compaction runs; default: 2 if the machine has 2 cores)
 set -euo pipefail
@@ -112,9 +114,23 @@ bash "$root/examples/chain-network/run.sh" "$out/chain-network" > /dev/null
 echo "[ncf-main] exports (VTU, VTI) and permeability of the released fabrics (ncf-export, ncf-perm) -> $out/manufacturing"
 { echo; echo "## 5. The released fabrics exported, and their permeability"; echo; for f in ncf45 ncf090; do bash "$root/examples/manufacturing/export_perm.sh" "$out/manufacturing/$f" || echo "WARNING: export or permeability of $f failed"; done; } >> "$out/report.md"
 
+echo "[ncf-main] virtual tests of the released fabrics, short versions (compaction, shear both senses) -> $out/manufacturing"
+# (short: the plate at 5 % damping drag, 20 deg at 300 steps per degree; doc/howto_virtual_tests.md
+# gives the full test and what the speeds change)
+if NCF_NP=$np NCF_ANGLE=20 NCF_ARGS_compaction="-var vdrag 0.05" NCF_ARGS_shear="-var dseg 2 -var degsteps 300" \
+  bash "$root/examples/virtual-tests/run.sh" "$out/manufacturing" ncf45 ncf090 > "$out/manufacturing/virtual_tests.out"; then
+  { echo; echo "## 6. Virtual tests of the released fabrics (short versions)"; echo
+    sed -n '3,$p' "$out/manufacturing/virtual_tests.md" | sed 's/^## /### /; s/^### Compaction/#### Compaction/; s/^### In-plane/#### In-plane/' |
+      sed 's#](\([A-Za-z0-9_.-]*\.png\))#](manufacturing/\1)#'; } >> "$out/report.md"
+else
+  echo "[ncf-main] WARNING: a virtual test failed, see $out/manufacturing/virtual_tests.out"
+  { echo; echo "## 6. Virtual tests: FAILED (see manufacturing/virtual_tests.out)"; } >> "$out/report.md"
+fi
+
 echo
 echo "[ncf-main] done. Report: $out/report.md"
 echo "  fabrics  : $out/fabrics/*.summary, *.png (generated layers and yarn)"
 echo "  stages   : $out/manufacturing/ (per fabric and stage: restart, data, dump, png, log; manufacturing.md)"
 echo "  measured : $out/measure/<fabric>/ (layer maps, orientation, ncf-measure.md, CSV)"
 echo "  network  : $out/chain-network/ (restarts, dumps, pictures, stress_strain.png)"
+echo "  vtests   : $out/manufacturing/virtual_tests.md, <fabric>.compaction_curve.png, <fabric>.shear_curve.png"

@@ -292,7 +292,9 @@ def main():
                 return None if r is None or r["deg"].max() < deg - 0.5 else float(np.interp(deg, r["deg"], r[key]))
             def fs_at(r, deg):
                 return None if r is None or r["grid"].max() < deg else float(np.interp(deg, r["grid"], r["fs"]))
-            for deg in (10, 20, 30, 40):
+            reach = min((r["grid"].max() for r in sh["pos"] + sh["neg"] if r is not None and len(r["grid"])),
+                        default=0)
+            for deg in [d for d in (2, 5, 10, 20, 30, 40) if d <= reach]:
                 fp = [fs_at(r, deg) for r in sh["pos"]]
                 fn = [fs_at(r, deg) for r in sh["neg"]]
                 ratio = [a / b for a, b in zip(fp, fn) if a is not None and b is not None and b != 0]
