@@ -210,6 +210,15 @@ def band(ax, curves, label, color, style="-"):
         ax.fill_between(grid, ys.min(axis=0), ys.max(axis=0), color=color, alpha=0.25, lw=0)
 
 
+def save(plt, fig, title, path):
+    """Writes a figure as PNG; the Markdown line that shows it (beside the report)."""
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return f"![{title}]({os.path.basename(path)})"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("prefixes", nargs="+")
@@ -279,12 +288,7 @@ def main():
                          if c["unload"].any()], "unloading", "C1")
             ax[1].set_xlabel("thickness (plate gap) [mm]")
             ax[1].set_ylabel("pressure [bar]")
-            fig.suptitle(f"{p}: compaction")
-            fig.tight_layout()
-            png = f"{p}.compaction_curve.png"
-            fig.savefig(os.path.join(outdir, png), dpi=110)
-            plt.close(fig)
-            lines += [f"![compaction]({png})", ""]
+            lines += [save(plt, fig, f"{p}: compaction", os.path.join(outdir, f"{p}.compaction_curve.png")), ""]
         if any(x is not None for x in sh["pos"] + sh["neg"]):
             lines += ["### In-plane shear (picture-frame kinematics, both senses)", "",
                       "| quantity | + sense | − sense | ratio +/− |", "|---|---|---|---|"]
@@ -341,12 +345,7 @@ def main():
             for a_ in ax.flat:
                 a_.set_xlabel("shear angle |θ| [deg]")
                 a_.legend(fontsize=7)
-            fig.suptitle(f"{p}: in-plane shear")
-            fig.tight_layout()
-            png = f"{p}.shear_curve.png"
-            fig.savefig(os.path.join(outdir, png), dpi=110)
-            plt.close(fig)
-            lines += [f"![shear]({png})", ""]
+            lines += [save(plt, fig, f"{p}: in-plane shear", os.path.join(outdir, f"{p}.shear_curve.png")), ""]
     with open(args.out, "w") as f:
         f.write("\n".join(x for x in lines if x is not None) + "\n")
     print(f"report: {args.out}")
