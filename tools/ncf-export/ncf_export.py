@@ -425,13 +425,6 @@ def _vtk():
     return vtk, numpy_support
 
 
-def _int(text):
-    try:
-        return int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
-
-
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.print_usage(sys.stderr)
@@ -448,7 +441,7 @@ def parse_args(argv):
     p.add_argument("--vti", help="write the voxel grid to this .vti (needs --voxel)")
     p.add_argument("--vtk", help="write the voxel grid as legacy STRUCTURED_POINTS to this .vtk")
     p.add_argument("--voxel", help="largest voxel edge, e.g. 40um (the cells tile the box exactly)")
-    p.add_argument("--subsample", type=_int, default=4,
+    p.add_argument("--subsample", type=ncf_measure.int_arg, default=4,
                    help="sub-points per voxel edge for the volume fractions (default 4: 64 per voxel)")
     p.add_argument("--z-range", metavar="ZLO,ZHI",
                    help="z extent of the grid, e.g. --z-range=-0.1mm,0.9mm (default: the chains' "

@@ -1285,7 +1285,8 @@ def _length(text):
         raise argparse.ArgumentTypeError(str(e))
 
 
-def _finite(text):
+def finite_arg(text):
+    """argparse type: a finite number (also used by ncf-export and ncf-perm)."""
     try:
         v = float(text)
     except ValueError:
@@ -1295,7 +1296,8 @@ def _finite(text):
     return v
 
 
-def _int(text):
+def int_arg(text):
+    """argparse type: an integer (also used by ncf-export and ncf-perm)."""
     try:
         return int(text)
     except ValueError:
@@ -1322,16 +1324,16 @@ def parse_args(argv):
     p.add_argument("--channel-search", type=_length, default=0.3e-3,
                    help="channel runs counted when they reach within this distance of the middle "
                    "on the line across (default 0.3 mm)")
-    p.add_argument("--min-gap", type=_finite, default=None,
+    p.add_argument("--min-gap", type=finite_arg, default=None,
                    help="smallest gap area counted [mm^2] (default (d_c/2)^2)")
     p.add_argument("--loop-z", type=_length, default=None,
                    help="z beyond which yarn nodes are on the loop face (default the middle of the "
                    "outer layer on that face)")
     p.add_argument("--min-loop", type=_length, default=0.2e-3,
                    help="shortest loop chord counted (default 0.2 mm)")
-    p.add_argument("--range", type=_finite, default=15.0, help="histogram half-width [deg] (default 15)")
-    p.add_argument("--bins", type=_int, default=60, help="histogram bins (default 60)")
-    p.add_argument("--map-range", type=_finite, default=10.0,
+    p.add_argument("--range", type=finite_arg, default=15.0, help="histogram half-width [deg] (default 15)")
+    p.add_argument("--bins", type=int_arg, default=60, help="histogram bins (default 60)")
+    p.add_argument("--map-range", type=finite_arg, default=10.0,
                    help="colour range of the deviation maps [deg] (default 10)")
     p.add_argument("--no-defects", action="store_true", help="orientation only")
     p.add_argument("--no-pictures", action="store_true", help="tables only")

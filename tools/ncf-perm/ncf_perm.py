@@ -10,7 +10,6 @@ grid. doc/ncf_perm.md.
 """
 
 import argparse
-import math
 import os
 import re
 import subprocess
@@ -18,6 +17,10 @@ import sys
 import tempfile
 
 import numpy as np
+
+# the argument types of ncf-measure (tools/ncf-measure/ncf_measure.py, beside this tool)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "ncf-measure"))
+from ncf_measure import finite_arg, int_arg  # noqa: E402
 
 
 class PermError(Exception):
@@ -145,23 +148,6 @@ def solver_path():
                     "tools/setup.sh; or set NCF_PERM_SOLVER)")
 
 
-def _finite(text):
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("'%s' is not a number" % text)
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError("'%s' is not a finite number" % text)
-    return v
-
-
-def _int(text):
-    try:
-        return int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError("'%s' is not an integer" % text)
-
-
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.print_usage(sys.stderr)
@@ -176,18 +162,18 @@ def parse_args(argv):
     p.add_argument("--medium", choices=["fibrous", "solid"], default="fibrous",
                    help="fibrous: vf is the fibre volume fraction of filament bundles (Brinkman, "
                         "Gebart); solid: vf is the solid fraction of impermeable bodies")
-    p.add_argument("--fibre-radius", type=_finite, default=None,
+    p.add_argument("--fibre-radius", type=finite_arg, default=None,
                    help="filament radius [m] for Gebart (default: the grid's field ncf_fibre_radius)")
     p.add_argument("--packing", choices=["hexagonal", "square"], default="hexagonal",
                    help="filament arrangement for Gebart's formulas (default hexagonal)")
-    p.add_argument("--solid-vf", type=_finite, default=None,
+    p.add_argument("--solid-vf", type=finite_arg, default=None,
                    help="fibrous: vf at and above which a cell is solid (default Gebart's maximum "
                         "packing, 0.9069 hexagonal, 0.7854 square)")
-    p.add_argument("--tol", type=_finite, default=1e-6, help="relative residual (default 1e-6)")
-    p.add_argument("--max-iter", type=_int, default=20000)
-    p.add_argument("--penalty", type=_finite, default=1e4,
+    p.add_argument("--tol", type=finite_arg, default=1e-6, help="relative residual (default 1e-6)")
+    p.add_argument("--max-iter", type=int_arg, default=20000)
+    p.add_argument("--penalty", type=finite_arg, default=1e4,
                    help="resistance of solid faces in units of 1/h^2 (default 1e4)")
-    p.add_argument("--threads", type=_int, default=None,
+    p.add_argument("--threads", type=int_arg, default=None,
                    help="threads (default: OMP_NUM_THREADS, else the cores)")
     p.add_argument("--plan", choices=["estimate", "measure"], default="estimate")
     p.add_argument("--loads", default="xyz", help="which mean pressure gradients (default xyz)")
