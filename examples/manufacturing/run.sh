@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The paper's manufacturing sequence for one or more fabric cards, stages 1-5 (paper section 4.4,
-# doc/howto_manufacturing.md), with pictures, checks and a report:
+# doc/howto_manufacturing.md), with each stage's pictures and its run-time checks (no pass-through,
+# the needle guards); the checks of the fabric and the report are report_manufacturing.py's (run.sh
+# prints the command at the end; tools/main.sh runs both):
 #   1 compact     the generated layers squeezed to sum(t_L) between two plates (in.compact)
 #   2 pierce      the in-plane hold of the chain ends let go, needles through the mat (in.pierce)
 #   3 stitch      the stitching yarn added through the needle holes, needles out (in.stitch)
@@ -131,4 +133,8 @@ for card in "${cards[@]}"; do
   for k in $(seq "$first" "$last"); do
     run_stage "$name" "$k" "${stages_all[k - 1]}"
   done
+  if [ "$last" = 5 ]; then
+    echo "[manufacturing] $name: the checks and the report:" \
+      "python3 $here/report_manufacturing.py $name --dir $out --out $out/$name.report.md"
+  fi
 done

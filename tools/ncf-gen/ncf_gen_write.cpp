@@ -421,9 +421,11 @@ std::string summary_text(const Fabric &f)
   // clearance of the generated layers (all segment pairs, periodic images included)
 
   s += "\nchecks\n";
+  // (the layers are laid touching: their clearance is the generator's margin, 1e-6 d_c, shown
+  // as a share of d_c rather than as a length of 1e-5 um that reads like an error)
   line("min clearance between fibre chains",
-       fmt("%.4g um", f.fibre_gap * 1e6) +
-           fmt("  (%.6f x d_c)", f.fibre_distance / f.card.chain_diameter));
+       fmt("%.2g x d_c", f.fibre_gap / f.card.chain_diameter) +
+           fmt(" = %.3g nm  (chains laid touching, none overlapping)", f.fibre_gap * 1e9));
   line("min clearance within the yarn", fmt("%.4g um", f.yarn_gap * 1e6));
   line("total atoms, bonds",
        std::to_string(f.fibres.nodes.size() + f.stitch.nodes.size()) + ", " +
