@@ -7,11 +7,12 @@
 // the reference state of fix ncf/pbc. Also: two `run 0` in a row give the forces of the step
 // before them.
 //
-// The scenes have no velocity-dependent forces (no dashpot, no fix viscous): LAMMPS evaluates
-// the forces of a run's setup with the full-step velocities, where the steps use the half-step
-// ones, so no velocity-dependent force of LAMMPS or of the package is split-invariant (see
-// doc/pair_ncf_contact.md, "Runs cut into pieces"). Atom sorting is off and no node crosses a
-// periodic boundary within the runs: LAMMPS sorts the atoms and wraps positions at every setup.
+// The damping is fix ncf/damp (its own scene): LAMMPS evaluates the forces of a run's setup with
+// the full-step velocities, where the steps use the half-step ones, so that a velocity-dependent
+// force that keeps no state (fix viscous, a dashpot) is not split-invariant; fix ncf/damp applies
+// at the setup the drag of the step before it (doc/fix_ncf_damp.md). The other scenes have no
+// velocity-dependent force. Atom sorting is off and no node crosses a periodic boundary within the
+// runs: LAMMPS sorts the atoms and wraps positions at every setup.
 
 #include "ncf_lammps_test.h"
 #include "ncf_scenes.h"
@@ -466,4 +467,113 @@ TEST(SplitRuns, FixShrinkRamp)
   auto dir = scratch_dir("split_shrink");
   check_cuts(shrink_scene(dir), dir);
   check_run0(shrink_scene(dir));
+}
+
+// ---------------------------------------------------------------- fix ncf/damp
+
+namespace {
+
+// the sliding contacts of the friction scene, damped over ~100 steps by `style` (ncf/damp or
+// LAMMPS's viscous: the same drag F = -gamma v at every step)
+Scene damped_scene(const std::string &dir, const std::string &style)
+{
+  const Scene base =
+      contact_scene(contact_data(dir), "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter 69e-6");
+  const std::string damp =
+      "variable g equal mass(all)/count(all)/(100*dt)\nfix damp all " + style + " $(v_g:%.17g)";
+  Scene s;
+  s.define = [=](Lammps &l) {
+    base.define(l);
+    l.cmds(damp);
+  };
+  s.resume = [=](Lammps &l, const std::string &file) {
+    base.resume(l, file);
+    l.cmds(damp);
+  };
+  return s;
+}
+
+}    // namespace
+
+// uncut, fix ncf/damp is fix viscous: the same drag at every step and at the first setup
+TEST(SplitRuns, FixDampIsFixViscousInAnUncutRun)
+{
+  auto dir = scratch_dir("split_damp_ref");
+  const Snapshot ref = run_pieces(damped_scene(dir, "viscous"), {7}, -1, dir);
+  const Snapshot undamped = run_pieces(contact_scene(contact_data(dir),
+                                                     "pair_coeff * * kn 1e8 mu 0.3 kt 1.0 diameter "
+                                                     "69e-6"),
+                                       {7}, -1, dir);
+  const std::vector<double> none(undamped.v.size(), 0.0);
+  EXPECT_GT(max_abs_diff(ref.v, undamped.v), 1e-3 * max_abs_diff(undamped.v, none))
+      << "the damping must change the velocities";
+  expect_same(run_pieces(damped_scene(dir, "ncf/damp"), {7}, -1, dir), ref,
+              "ncf/damp vs viscous, run 7");
+}
+
+// cut, in the same run or through a restart file: the drag of the setup is the last step's
+TEST(SplitRuns, FixDampKeepsTheDragOfTheLastStep)
+{
+  auto dir = scratch_dir("split_damp");
+  const Scene s = damped_scene(dir, "ncf/damp");
+  check_cuts(s, dir);
+  check_run0(s);
+}
+
+// the reason for fix ncf/damp: fix viscous evaluates the setup's drag with the full-step
+// velocities, so that the same cut changes the run (the check above can fail)
+TEST(SplitRuns, FixViscousDependsOnTheCut)
+{
+  auto dir = scratch_dir("split_viscous");
+  const Scene s = damped_scene(dir, "viscous");
+  const Snapshot ref = run_pieces(s, {7}, -1, dir);
+  const Snapshot cut = run_pieces(s, {3, 4}, -1, dir);
+  EXPECT_GT(max_abs_diff(cut.v, ref.v), 0.0) << "fix viscous, run 3 + run 4 vs run 7";
+}
+
+// a restart file from fix viscous (or none) read into fix ncf/damp: no kept drag, the setup
+// takes the full-step velocities as fix viscous does
+TEST(SplitRuns, FixDampWithoutKeptDragStartsAsViscous)
+{
+  auto dir = scratch_dir("split_damp_from_viscous");
+  const Scene visc = damped_scene(dir, "viscous");
+  Scene mixed = visc;
+  const Scene damp = damped_scene(dir, "ncf/damp");
+  mixed.resume = damp.resume;
+  expect_same(run_pieces(mixed, {3, 4}, 0, dir), run_pieces(visc, {3, 4}, 0, dir),
+              "viscous + restart + ncf/damp vs viscous + restart + viscous");
+}
+
+// fix_modify ID gamma: the coefficient changed in the same process, what the fix kept kept; the
+// same as the new coefficient given to the fix defined again after a restart file (straight.lmp
+// against the stages from their restart files)
+TEST(SplitRuns, FixDampGammaChangedInPlaceIsTheRestartedRun)
+{
+  auto dir = scratch_dir("split_damp_modify");
+  const Scene s = damped_scene(dir, "ncf/damp");
+  Snapshot in_place;
+  {
+    Lammps l;
+    s.define(l);
+    l.cmd("run 3");
+    l.cmd("fix_modify damp gamma $(2*v_g:%.17g)");
+    l.cmd("run 4");
+    in_place = snapshot(l, s);
+  }
+  Snapshot restarted;
+  {
+    auto l = std::make_unique<Lammps>();
+    s.define(*l);
+    l->cmd("run 3");
+    l->cmd("write_restart " + dir + "/g.restart");
+    l.reset();
+    l = std::make_unique<Lammps>();
+    s.resume(*l, dir + "/g.restart");
+    l->cmd("fix_modify damp gamma $(2*v_g:%.17g)");
+    l->cmd("run 4");
+    restarted = snapshot(*l, s);
+  }
+  expect_same(in_place, restarted, "fix_modify gamma in place vs after a restart");
+  const Snapshot same_gamma = run_pieces(s, {3, 4}, -1, dir);
+  EXPECT_GT(max_abs_diff(in_place.v, same_gamma.v), 0.0) << "the new gamma must act";
 }
