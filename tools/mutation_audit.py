@@ -258,6 +258,55 @@ mut("closest-t-sign", "ncf_geometry.h", "        t = (b * s + f) / e;\n", "     
     GEOM, "closest point on the second segment with the wrong sign")
 
 
+# ---------------------------------------------------------------- fix ncf/damp
+DAMP = r"^(integration\.test_split_runs|mpi\.test_split_runs_mpi|examples\.manufacturing)$"
+mut("damp-setup-fullstep", "fix_ncf_damp.cpp", "      drag(i, kept[i]);", "      drag(i, v[i]);", DAMP,
+    "the setup's drag from the full-step velocity (fix viscous's behaviour)")
+mut("damp-restart-lost", "fix_ncf_damp.cpp", "for (int d = 0; d < NKEEP; d++) buf[d + 1] = kept[i][d];",
+    "for (int d = 0; d < NKEEP; d++) buf[d + 1] = -1.0;", DAMP,
+    "the kept velocities and their step not written to the restart file")
+mut("damp-exchange-lost", "fix_ncf_damp.cpp", "for (int d = 0; d < NKEEP; d++) buf[d] = kept[i][d];",
+    "for (int d = 0; d < NKEEP; d++) buf[d] = -1.0;", DAMP,
+    "the kept velocities not migrating with their atom to another rank")
+
+# ---------------------------------------------------------------- bond ncf/chain's cache
+mut("bond-l0-cache-stale", "bond_ncf_chain.cpp",
+    "if (l0_ncalls != neighbor->ncalls || (int) l0_list.size() != nbondlist) {",
+    "if ((int) l0_list.size() != nbondlist) {",
+    r"^(integration\.test_bond_chain|mpi\.test_bond_chain_mpi|integration\.test_compaction)$",
+    "reference lengths of the bond list not looked up again after the list was rebuilt")
+
+# ---------------------------------------------------------------- command ncf/check
+CHECK = r"^(integration\.test_bad_input|integration\.bad_input_scripts)$"
+mut("check-ge-strict", "command_ncf_check.cpp", "ok = v >= b;", "ok = v > b;", CHECK,
+    "a bound '>=' checked as '>' (the bound itself refused)")
+
+# ---------------------------------------------------------------- tools
+GEN = r"^(unit\.test_gen|unit\.test_bad_cards|integration\.test_gen_lammps|examples\.gen-.*)$"
+mut("gen-sigma-dropped", "tools/ncf-gen/ncf_gen_build.cpp", "for (auto &d : dev) d *= spec.sigma;",
+    "for (auto &d : dev) d *= 0.5 * spec.sigma;", GEN,
+    "the chain angles drawn with half the card's SD")
+MEASURE = r"^(unit\.ncf_measure)$"
+mut("measure-unweighted-mean", "tools/ncf-measure/ncf_measure.py", "m = np.sum(w * x) / W",
+    "m = np.mean(x)", MEASURE, "orientation mean not weighted by the segment lengths")
+mut("measure-wrap-360", "tools/ncf-measure/ncf_measure.py",
+    "return 90.0 - np.mod(90.0 - np.asarray(a, dtype=float), 180.0)",
+    "return 180.0 - np.mod(180.0 - np.asarray(a, dtype=float), 360.0)", MEASURE,
+    "deviations wrapped as directions (360 deg), not as axes (180 deg)")
+EXPORT = r"^(unit\.perm_ncf_export)$"
+mut("export-packing-dropped", "tools/ncf-export/ncf_export.py",
+    "frac = ins.sum(axis=2) / S * pack[kk][:, None]", "frac = ins.sum(axis=2) / S",
+    EXPORT, "the voxel's fibre fraction without the chain's packing")
+mut("export-volume-packing", "tools/ncf-export/ncf_export.py",
+    "return float(np.sum(L * math.pi * r * r * p))", "return float(np.sum(L * math.pi * r * r))",
+    EXPORT, "the chains' fibre volume (the voxels' check) without the packing")
+PERM = r"^(unit\.perm_solver|unit\.perm_ncf_perm)$"
+mut("perm-gebart-parallel", "tools/ncf-perm/ncf_perm_solver.cpp",
+    "std::min(bsolid, 1.0 / gebart_parallel(v, o.fibre_radius, o.packing));",
+    "std::min(bsolid, 1.0 / gebart_perpendicular(v, o.fibre_radius, o.packing));", PERM,
+    "Gebart's perpendicular permeability along the fibres too")
+
+
 # ---------------------------------------------------------------- machinery
 class Restore:
     """The original text of the mutated file, put back whatever happens."""
@@ -382,13 +431,14 @@ def main():
 
     signal.signal(signal.SIGTERM, on_term)
 
-    def build_and_test(regex, tag):
+    def build_and_test(regex, tag, everything=False):
         names = ctest_names(build, regex)
         if not names:
             raise SystemExit(f"{tag}: no test matches {regex}")
         blog, tlog = os.path.join(work, tag + ".build.log"), os.path.join(work, tag + ".test.log")
-        if run(["cmake", "--build", build, "-j", str(args.j), "--target"] + targets_for(names), ROOT, blog,
-               3600) != 0:
+        # (a tool's source: the whole build, incremental, since the tools' targets are their own)
+        targets = [] if everything else ["--target"] + targets_for(names)
+        if run(["cmake", "--build", build, "-j", str(args.j)] + targets, ROOT, blog, 3600) != 0:
             return "BUILD-ERROR", [], names
         # one test at a time, the quick suites first, up to the first failure (ctest itself would
         # start with the longest)
@@ -404,7 +454,7 @@ def main():
 
     if args.baseline:
         regex = "|".join(sorted({m["tests"] for m in chosen}))
-        state, failed, names = build_and_test(regex, "baseline")
+        state, failed, names = build_and_test(regex, "baseline", True)
         print(f"[audit] baseline ({len(names)} tests): {state} {' '.join(failed)}", flush=True)
         if state != "PASSED":
             sys.exit("[audit] the tests must pass without a mutation")
@@ -419,7 +469,8 @@ def main():
             try:
                 with open(path, "w") as f:
                     f.write(guard.text.replace(m["old"], m["new"], 1))
-                state, failed, names = build_and_test(m["tests"], m["id"])
+                state, failed, names = build_and_test(m["tests"], m["id"],
+                                                      m["path"].startswith("tools/"))
             finally:
                 guard.put_back()
             verdict = {"FAILED": "KILLED", "PASSED": "SURVIVED", "BUILD-ERROR": "BUILD-ERROR"}[state]

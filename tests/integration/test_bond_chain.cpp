@@ -12,12 +12,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
-#include <map>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
+#include <vector>
 
 using namespace ncftest;
 using ::testing::HasSubstr;
@@ -434,6 +436,63 @@ TEST(BondChain, MissingReferenceLengthsAreCapturedFromTheGeometry)
   EXPECT_THAT(text.str(), HasSubstr("taken from the current geometry for 5 bond(s)"));
   ASSERT_EQ(got.size(), 5u);
   for (auto &kv : got) EXPECT_NEAR(kv.second, 2.3e-4, 1e-18);
+}
+
+// The reference lengths are looked up in the order of LAMMPS's bond list, which changes when the
+// atoms are sorted or migrate: a chain of alternating element lengths (0.1 and 0.3 mm, captured
+// from its geometry) translated rigidly through the periodic x face, its atoms (listed in reverse
+// in the data file) sorted into 10 um bins every 5 steps and the lists rebuilt every step, keeps
+// every bond at its own reference length (a length looked up for another bond strains it by 200 %)
+TEST(BondChain, ReferenceLengthsFollowTheBondListWhenTheAtomsAreReordered)
+{
+  auto dir = scratch_dir("bond_reorder");
+  const std::string path = dir + "/zigzag.data";
+  const int n = 12;
+  {
+    FILE *fp = fopen(path.c_str(), "w");
+    fprintf(fp, "chain\n\n%d atoms\n1 atom types\n%d bonds\n1 bond types\n\n", n, n - 1);
+    fprintf(fp, "0 3e-3 xlo xhi\n-1e-3 1e-3 ylo yhi\n-1e-3 1e-3 zlo zhi\n\n");
+    fprintf(fp, "Masses\n\n1 1e-9\n\nAtoms # bond\n\n");
+    double x = 0.1e-3;
+    std::vector<double> xs;
+    for (int i = 0; i < n; i++) {
+      xs.push_back(x);
+      x += (i % 2 ? 0.3e-3 : 0.1e-3);
+    }
+    for (int i = n - 1; i >= 0; i--) fprintf(fp, "%d 1 1 %.17g 0 0\n", i + 1, xs[i]);
+    fprintf(fp, "\nBonds\n\n");
+    for (int i = 1; i < n; i++) fprintf(fp, "%d 1 %d %d\n", i, i, i + 1);
+    fclose(fp);
+  }
+  Lammps l;
+  l.cmds("units si\natom_style bond\natom_modify map array sort 5 1e-5\nboundary p p p\n"
+         "bond_style ncf/chain");
+  l.cmd("read_data " + path);
+  l.cmds(R"(
+bond_coeff 1 ea 10.0
+neighbor 1e-5 bin
+neigh_modify every 1 delay 0 check no
+comm_modify cutoff 6e-4
+velocity all set 500 0 0
+fix nve all nve
+timestep 1e-8
+thermo_style custom step ebond
+thermo 0
+run 0
+)");
+  EXPECT_NEAR(l.value("ebond"), 0.0, 1e-30);
+  std::vector<long> first;
+  for (int i = 0; i < l.lmp->atom->nlocal; i++) first.push_back((long) l.lmp->atom->tag[i]);
+  double emax = 0.0;
+  for (int k = 0; k < 60; k++) {
+    l.cmd("run 5 pre no");
+    emax = std::max(emax, std::fabs(l.value("ebond")));
+  }
+  std::vector<long> last;
+  for (int i = 0; i < l.lmp->atom->nlocal; i++) last.push_back((long) l.lmp->atom->tag[i]);
+  EXPECT_NE(first, last) << "the atoms must have been reordered";
+  // (1.5 mm travelled, through the x face; energy of a strain of 1e-12 in every bond: 5e-28 J)
+  EXPECT_LT(emax, 1e-24) << "largest bond energy along the way [J]";
 }
 
 TEST(BondChain, ShrinkByFixAdaptPullsTheChainTogether)
