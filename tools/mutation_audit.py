@@ -49,7 +49,7 @@ def mut(mid, path, old, new, tests, what):
                   what=what))
 
 
-BOND = r"^(integration\.test_bond_chain|mpi\.test_bond_chain_mpi)$"
+BOND = r"^(integration\.test_bond_chain|mpi\.test_bond_chain_mpi|integration\.test_compaction|integration\.test_split_runs)$"
 ORIENT = r"^(unit\.test_orient|integration\.test_compute_orient)$"
 PBC = r"^(unit\.test_pbc|integration\.test_fix_pbc|integration\.test_split_runs|mpi\.test_fix_pbc_mpi)$"
 PLATE = r"^(unit\.test_wall|integration\.test_fix_plate|integration\.test_split_runs|mpi\.test_fix_plate_mpi)$"
@@ -105,8 +105,8 @@ mut("orient-output-6", "compute_ncf_orient.cpp", "v[5] = s.weight();", "v[5] = s
 mut("pbc-restart-box", "fix_ncf_pbc.cpp", "for (int k = 0; k < 6; k++) href[k] = buf[m++];",
     "for (int k = 0; k < 6; k++) href[k] = domain->h[k] + 0.0 * buf[m++];", PBC,
     "restart: the reference box taken from the current (deformed) box")
-mut("pbc-predict-force", "fix_ncf_pbc.cpp", "const double pred = xu[d] + dt * v[i][d] + dt2 * f[i][d] / m;",
-    "const double pred = xu[d] + dt * v[i][d];", PBC, "predicted position without the force")
+mut("pbc-predict-force", "fix_ncf_pbc.cpp", "pred[d] = xu[d] + dt * v[i][d] + dt2 * f[i][d] / m;",
+    "pred[d] = xu[d] + dt * v[i][d];", PBC, "predicted position without the force")
 mut("pbc-mass-weight", "fix_ncf_pbc.cpp", "s[6] += e.weight * e.weight / m;", "s[6] += e.weight / m;", PBC,
     "multiplier with the wrong weight")
 mut("pbc-shear", "fix_ncf_pbc.cpp",
@@ -115,11 +115,10 @@ mut("pbc-shear", "fix_ncf_pbc.cpp",
 mut("pbc-setup-lambda", "fix_ncf_pbc.cpp",
     "} else if (lambda_step == update->ntimestep && lambda_last.size() == lambda.size()) {",
     "} else if (false) {", PBC, "a run's setup does not apply the multipliers of the step before")
-mut("pbc-restart-lambda-step", "fix_ncf_pbc.cpp", "lambda_step = (bigint) buf[m++];",
-    "lambda_step = (bigint) buf[m++] - 1;", PBC, "restart: the step of the stored multipliers off by one")
+mut("pbc-restart-lambda-step", "fix_ncf_pbc.cpp", "    lambda_step = (bigint) buf[m++];",
+    "    lambda_step = (bigint) buf[m++] - 1;", PBC, "restart: the step of the stored multipliers off by one")
 mut("pbc-min-sign", "fix_ncf_pbc.cpp",
-    "for (int d = 0; d < 3; d++) f[i][d] -= e.weight * sums[3 * e.group + d] / sum_w2[e.group];",
-    "for (int d = 0; d < 3; d++) f[i][d] += e.weight * sums[3 * e.group + d] / sum_w2[e.group];", PBC,
+    "      f[i][d] += e.weight * lam;", "      f[i][d] -= e.weight * lam;", PBC,
     "minimisation: projection with the wrong sign")
 mut("pbc-weights-index", "ncf_pbc.cpp",
     "w[i] = nodes[i].side < 0 ? -1.0 / nlow[group[i]] : 1.0 / nup[group[i]];",
@@ -163,7 +162,8 @@ mut("needles-restart-clock", "fix_ncf_needles.cpp", "    clock.unpack(&buf[5]);\
 mut("needles-radius", "fix_ncf_needles.cpp", "const double rc = 0.25 * (di + dj);",
     "const double rc = 0.5 * (di + dj);", NEEDLE, "chain radius from the diameters twice too large")
 mut("needles-image", "fix_ncf_needles.cpp",
-    "        NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);\n", "", NEEDLE,
+    "  NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);\n  if (d[0] * d[0]",
+    "  if (d[0] * d[0]", NEEDLE,
     "needle not taken at its closest periodic image")
 mut("needles-reaction-sign", "fix_ncf_needles.cpp", "local[3 * k + 1] -= c.f[0].y;",
     "local[3 * k + 1] += c.f[0].y;", NEEDLE, "force on the needle (y) with the wrong sign")
@@ -273,7 +273,7 @@ mut("damp-exchange-lost", "fix_ncf_damp.cpp", "for (int d = 0; d < NKEEP; d++) b
 mut("bond-l0-cache-stale", "bond_ncf_chain.cpp",
     "if (l0_ncalls != neighbor->ncalls || (int) l0_list.size() != nbondlist) {",
     "if ((int) l0_list.size() != nbondlist) {",
-    r"^(integration\.test_bond_chain|mpi\.test_bond_chain_mpi|integration\.test_compaction)$",
+    BOND,
     "reference lengths of the bond list not looked up again after the list was rebuilt")
 
 # ---------------------------------------------------------------- command ncf/check
