@@ -288,6 +288,33 @@ void BondNCFChain::check_bonds()
                  "bond ncf/chain: atom {} has {} bonds to {} distinct atom(s): a bond is given "
                  "twice (a repeated line in the Bonds section, or a ring of two atoms)",
                  tag[i], (int) ksum[i], atom->nspecial[i][0]);
+  // every filled slot names a bonded neighbour, every empty one holds no length: a row of the
+  // data file's section that names another atom, or a length without a partner, is not used by
+  // any bond and would be dropped without a word
+  int **dtag = atom->iarray[idx_dtag];
+  double **l0 = atom->darray[idx_l0];
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < NSLOT; k++) {
+      if (dtag[i][k] == 0) {
+        if (l0[i][k] != 0.0)
+          error->one(FLERR,
+                     "bond ncf/chain: atom {} has the reference length {} in slot {} of section "
+                     "{} without a partner (its relative tag is 0): a mistyped row",
+                     tag[i], l0[i][k], k + 1, STORE_ID);
+        continue;
+      }
+      const tagint partner = tag[i] + dtag[i][k];
+      bool bonded = false;
+      for (int s = 0; s < atom->nspecial[i][0]; s++) bonded |= atom->special[i][s] == partner;
+      if (!bonded)
+        error->one(
+            FLERR,
+            "bond ncf/chain: atom {} has a reference length ({}) for atom {} (relative tag "
+            "{}, slot {} of section {}), which is not bonded to it: a mistyped row, or a "
+            "bond deleted since (empty the slot: set atom {} i2_ncf_dtag[{}] 0 d2_ncf_l0[{}] "
+            "0)",
+            tag[i], l0[i][k], partner, dtag[i][k], k + 1, STORE_ID, tag[i], k + 1, k + 1);
+    }
 }
 
 void BondNCFChain::update_maxl0()

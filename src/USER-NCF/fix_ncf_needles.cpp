@@ -202,6 +202,43 @@ void FixNCFNeedles::init()
   }
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "fix ncf/needles needs an atom map (atom_modify map array or hash)");
+  check_time_step();
+}
+
+/* ----------------------------------------------------------------------
+   critical time step of the needle contacts, before a run: a node of mass m pressed against a
+   needle over its tributary length l (half of each element, bond_style ncf/chain's reference
+   lengths) has the stiffness kn l (1 + (R/tip)^2) at most (the point's slope adds its axial
+   part), so dt_c = 2 sqrt(m / (kn l (1 + (R/tip)^2))). Above it the contacts blow up within a few
+   steps, and the run would end in an error about something else (a segment longer than lmax, a
+   bond atom missing): stopped here, naming kn. (Without bond_style ncf/chain there are no
+   reference lengths: no check.)
+------------------------------------------------------------------------- */
+
+void FixNCFNeedles::check_time_step()
+{
+  int flag, cols;
+  const int idx = atom->find_custom("ncf_l0", flag, cols);
+  if (idx < 0 || update->whichflag != 1) return;
+  double **l0 = atom->darray[idx];
+  const int *mask = atom->mask, *type = atom->type;
+  const double slope = radius / tip, kpoint = kn * (1.0 + slope * slope);
+  double dtmin = 1e300;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || !(chain_d[type[i]] > 0.0)) continue;
+    const double l = 0.5 * (l0[i][0] + l0[i][1]);
+    if (!(l > 0.0)) continue;
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[type[i]];
+    dtmin = std::min(dtmin, 2.0 * std::sqrt(m / (kpoint * l)));
+  }
+  double all = 1e300;
+  MPI_Allreduce(&dtmin, &all, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (update->dt > all)
+    error->all(FLERR,
+               "fix ncf/needles: timestep {:.6g} is above the critical time step {:.6g} of the "
+               "needle contacts (kn {:.6g} Pa, the point's slope R/tip {:.3g}, on the lightest "
+               "node per tributary length); lower kn or the timestep, or scale the masses",
+               update->dt, all, kn, slope);
 }
 
 void FixNCFNeedles::update_tip()

@@ -40,6 +40,8 @@ class FixNCFNeedles : public Fix {
   int image(int *&, double **&) override;
 
  protected:
+  void check_time_step();
+
   std::vector<double> nx, ny;    // needle axes
   double radius;                 // needle radius
   double tip;                    // length of the conical point

@@ -237,12 +237,15 @@ void FixNCFPlate::check_nodes()
         lmp,
         "fix ncf/plate: critical time step of the plate contacts {:.6g} (timestep {:.3g} of it)\n",
         dt_contact, update->dt / dt_contact);
-    if (update->dt > dt_contact)
-      error->warning(FLERR,
-                     "fix ncf/plate: timestep {:.6g} is above the critical time step {:.6g} of "
-                     "the plate contacts; lower kn or the timestep, or scale the masses",
-                     update->dt, dt_contact);
   }
+  // (an error before the run, naming kn: above it the contacts blow up within steps, and the run
+  // would end in an error about something else, a segment longer than lmax or a bond atom missing)
+  if (update->whichflag == 1 && update->dt > dt_contact)
+    error->all(FLERR,
+               "fix ncf/plate: timestep {:.6g} is above the critical time step {:.6g} of the "
+               "plate contacts (kn {:.6g} Pa on the lightest node per tributary length); lower kn "
+               "or the timestep, or scale the masses",
+               update->dt, dt_contact, kn);
 }
 
 /* ---------------------------------------------------------------------- */

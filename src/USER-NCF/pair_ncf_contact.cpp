@@ -463,6 +463,23 @@ void PairNCFContact::find_lmax()
   if (lmax_user > 0.0 && all > lmax_user)
     error->all(FLERR, "pair ncf/contact: longest segment {:.6g} exceeds lmax {:.6g}", all,
                lmax_user);
+  // another bond style's bonds may stretch far more than the 10 % the default allows
+  if (lmax_user == 0.0 && !lmax_note().empty() && comm->me == 0 && !lmax_warned) {
+    error->warning(FLERR,
+                   "pair ncf/contact: lmax {:.6g} (1.1 x the longest segment now){}; give "
+                   "pair_style keyword lmax for the longest segment the run will have",
+                   lmax_used, lmax_note());
+    lmax_warned = true;
+  }
+}
+
+// what the messages about lmax add for a bond style other than ncf/chain (empty for ncf/chain)
+std::string PairNCFContact::lmax_note() const
+{
+  const std::string style = force->bond_style ? force->bond_style : "none";
+  if (utils::strmatch(style, "^ncf/chain")) return "";
+  return " (bond_style " + style +
+      ": its bonds are not the stiff elements of bond_style ncf/chain and may stretch beyond it)";
 }
 
 /* ----------------------------------------------------------------------

@@ -18,6 +18,7 @@ PairStyle(ncf/contact,PairNCFContact);
 
 #include "ncf_contact.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -89,6 +90,8 @@ class PairNCFContact : public Pair {
 
   // derived at init
   double lmax_used;
+  bool lmax_warned = false;    // the warning for another bond style given once
+  std::string lmax_note() const;
   double reach_max;     // largest D (1 + ramp) over the type pairs (without end caps)
   double diam_max;      // largest diameter (of a type)
   bool use_history;     // any mu > 0: history stored and communicated

@@ -190,8 +190,8 @@ void PairNCFContact::compute(int eflag, int vflag)
       if (l2 > lmax2)
         error->one(FLERR,
                    "pair ncf/contact: segment {}-{} is {:.6g} long, longer than lmax {:.6g} that "
-                   "the cutoffs were sized for; set pair_style keyword lmax",
-                   tag[i], tag[ia], std::sqrt(l2), lmax_used);
+                   "the cutoffs were sized for; set pair_style keyword lmax{}",
+                   tag[i], tag[ia], std::sqrt(l2), lmax_used, lmax_note());
     }
 
   // friction history: the last step's read, this step's written (load_history)

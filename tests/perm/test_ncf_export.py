@@ -255,6 +255,33 @@ class NcfExport(unittest.TestCase):
         self.assertEqual(rc, 1)
         self.assertIn("nothing to write", e)
 
+    def test_summary_of_another_fabric(self):
+        # the summary's RVE against the data file's box, or (a box deformed by a virtual test,
+        # e.g. the shear's picture frame) its number of nodes
+        data = self.path("f.data")
+        write_data(data, "bond")
+        n = len(scene()[0])
+
+        def summary(name, size, total):
+            with open(self.path(name), "w") as f:
+                f.write(SUMMARY.replace("\nlayer 1", "\nRVE\n  size Lx (machine) x Ly (gauge)  %s mm\n"
+                                        "  total atoms, bonds                  %d, 10\n\nlayer 1"
+                                        % (size, total), 1))
+            return self.path(name)
+
+        for name, size, total, ok in (("same.summary", "1.0 x 0.8", n, True),
+                                      ("sheared.summary", "1.2 x 0.7", n, True),
+                                      ("other.summary", "2.0 x 0.8", n + 5, False)):
+            p = subprocess.run([sys.executable, "-B", SCRIPT, data, "--summary", summary(name, size, total),
+                                "--vtu", self.path(name + ".vtu")], capture_output=True, text=True)
+            if ok:
+                self.assertEqual(p.returncode, 0, name + ": " + p.stderr)
+            else:
+                self.assertEqual(p.returncode, 1, name)
+                self.assertIn("describes an RVE of 2 x 0.8 mm: the summary of another fabric?", p.stderr)
+                self.assertIn("and its %d nodes are not the summary's %d either" % (n, n + 5), p.stderr)
+                self.assertFalse(os.path.exists(self.path(name + ".vtu")), "nothing written")
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)

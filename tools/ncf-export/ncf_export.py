@@ -115,6 +115,16 @@ def read_summary(path):
     return kinds, len(layers)
 
 
+def summary_atoms(path):
+    """The number of nodes of the generated fabric, layers and yarn ('total atoms, bonds N, M')."""
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            m = re.match(r"\s*total atoms, bonds\s+(\d+), (\d+)", line)
+            if m:
+                return int(m.group(1))
+    return None
+
+
 def read_data(path):
     """LAMMPS data file, atom_style bond or angle (columns id mol type x y z [ix iy iz]), with or
     without the NCF_NODE section: ncf-measure's reader (one reader of the package's data files)."""
@@ -473,6 +483,16 @@ def main(argv=None):
             raise ExportError("ncf-export: the same file is given to two of --vtu, --vti, --vtk")
         kinds, nlayers = read_summary(a.summary)
         d = read_data(a.data)
+        # the summary of another fabric: its diameters and packings would be exported silently.
+        # The fabric's box, or (a box deformed by a virtual test) its number of nodes
+        try:
+            ncf_measure.check_box(d, ncf_measure.read_summary(a.summary), a.data)
+        except ncf_measure.MeasureError as e:
+            total = summary_atoms(a.summary)
+            n = len(d.ids) + (len(read_data(a.yarn).ids) if a.yarn else 0)
+            if total is None or n != total:
+                raise ExportError("ncf-export: %s; and its %d nodes are not the summary's %s either"
+                                  % (e, n, total if total is not None else "(unknown)"))
         if a.yarn:
             append(d, read_data(a.yarn))
         if len(d.bonds) == 0:

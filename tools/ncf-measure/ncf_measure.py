@@ -463,10 +463,9 @@ def read_data(path, need_nodes=True):
     return d
 
 
-def check_fabric(data, fab, path, needles, needles_path):
-    """The summary, the needles and the data file are of one fabric: the summary's RVE size is the
-    data file's box in x and y (to 1e-6 of it: the stages keep the box), the needle file holds
-    the summary's number of stitching points, none twice."""
+def check_box(data, fab, path):
+    """The summary's RVE size is the data file's box in x and y (to 1e-6 of it: the stages keep
+    the box); also for ncf-export."""
     if fab.size is not None:
         lx, ly = data.hi[0] - data.lo[0], data.hi[1] - data.lo[1]
         if abs(lx - fab.size[0]) > 1e-6 * fab.size[0] + 1e-7 or \
@@ -474,6 +473,13 @@ def check_fabric(data, fab, path, needles, needles_path):
             raise MeasureError("%s: box %g x %g mm, but %s describes an RVE of %g x %g mm: the "
                                "summary of another fabric?" % (path, lx * 1e3, ly * 1e3, fab.source,
                                                                 fab.size[0] * 1e3, fab.size[1] * 1e3))
+
+
+def check_fabric(data, fab, path, needles, needles_path):
+    """The summary, the needles and the data file are of one fabric: the summary's RVE size is the
+    data file's box in x and y (to 1e-6 of it: the stages keep the box), the needle file holds
+    the summary's number of stitching points, none twice."""
+    check_box(data, fab, path)
     if fab.points is not None and len(needles) != fab.points:
         raise MeasureError("%s: %d stitching points, but %s describes %d: the needles of another "
                            "fabric?" % (needles_path, len(needles), fab.source, fab.points))
