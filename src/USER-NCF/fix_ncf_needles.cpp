@@ -95,6 +95,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
       const double d = number(iarg + 2, "chain");
       if (!(d > 0.0))
         error->all(FLERR, "fix ncf/needles: chain diameter {} must be > 0", arg[iarg + 2]);
+      NCF_LMP::diameter_in_box(lmp, "fix ncf/needles", "chain diameter", arg[iarg + 2], d);
       for (int t = lo; t <= hi; t++) chain_d[t] = d;
       iarg += 3;
     } else if (key == "at") {
@@ -156,9 +157,8 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
 
   NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
   // a needle listed twice (a needle file given twice, 1 000 needles on one point) would act twice
-  // on every chain it touches; in a periodic direction a needle must also clear its own image.
-  // (Needles that overlap without repeating are the user's choice here; the stage scripts refuse
-  // them for their needle files, ncf/check needles.)
+  // on every chain it touches, two that overlap would press the chains between them from both
+  // sides at once; in a periodic direction a needle must also clear its own image
   for (int d = 0; d < 2; d++) {
     const double prd = domain->boxhi[d] - domain->boxlo[d];
     if (domain->periodicity[d] && 2.0 * radius >= prd)
@@ -181,6 +181,22 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                    std::min(a, b) + 1, std::max(a, b) + 1, nx[a], ny[a]);
     }
   }
+  // (all pairs, through the periodic faces: a few hundred needles at most, once)
+  for (std::size_t a = 0; a < nx.size(); a++)
+    for (std::size_t b = a + 1; b < nx.size(); b++) {
+      double d[3] = {nx[b] - nx[a], ny[b] - ny[a], 0.0};
+      NCF_COMPAT::minimum_image(domain, FLERR, d[0], d[1], d[2]);
+      const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+      if (dist < 2.0 * radius)
+        error->all(FLERR,
+                   "fix ncf/needles: needles {} at ({}, {}) and {} at ({}, {}) overlap: their axes "
+                   "are {:.6g} apart{}, less than the diameter {}",
+                   a + 1, nx[a], ny[a], b + 1, nx[b], ny[b], dist,
+                   std::fabs(d[0] - (nx[b] - nx[a])) + std::fabs(d[1] - (ny[b] - ny[a])) > 0.0
+                       ? " through a periodic face"
+                       : "",
+                   2.0 * radius);
+    }
   size_array_rows = (int) nx.size();
   fneedle.assign(3 * nx.size(), 0.0);
   clock.start(update);

@@ -112,6 +112,7 @@ void FixNCFPlate::parse(int narg, char **arg)
       int lo, hi;
       NCF_LMP::types(lmp, "fix ncf/plate", "diameter", arg[iarg + 1], atom->ntypes, lo, hi);
       const double d = positive("diameter", arg[iarg + 2], true);
+      NCF_LMP::diameter_in_box(lmp, "fix ncf/plate", "diameter", arg[iarg + 2], d);
       for (int t = lo; t <= hi; t++) diameter[t] = d;
       iarg += 3;
       continue;

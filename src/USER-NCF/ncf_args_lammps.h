@@ -58,6 +58,24 @@ inline long long integer(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const 
   return v;
 }
 
+// a chain's contact diameter smaller than the box's smallest edge: a diameter of the box's size
+// (a length in mm given as metres) makes every node touch everything, and the ghost shell of the
+// contacts spans thousands of periodic images (memory and time without end)
+inline void diameter_in_box(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                            const char *text, double d)
+{
+  const auto *dom = lmp->domain;
+  if (!dom->box_exist) return;
+  int dim = 0;
+  for (int k = 1; k < 3; k++)
+    if (dom->prd[k] < dom->prd[dim]) dim = k;
+  if (d >= dom->prd[dim])
+    lmp->error->all(FLERR,
+                    "{}: {} {} is not smaller than the box's smallest edge {} (in {}): lengths are "
+                    "in metres (69e-6 for a 69 um chain)",
+                    what, key, text, dom->prd[dim], "xyz"[dim]);
+}
+
 // yes/no, on/off, true/false, 1/0
 inline bool logical(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
                     const char *text)

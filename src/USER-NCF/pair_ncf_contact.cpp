@@ -329,6 +329,7 @@ void PairNCFContact::coeff(int narg, char **arg)
       damp_one = v;
     } else if (key == "diameter") {
       if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: diameter {} must be > 0", val);
+      NCF_LMP::diameter_in_box(lmp, "pair_coeff ncf/contact", "diameter", val, v);
       d_one = v;
     }
     iarg += 2;

@@ -145,9 +145,12 @@ TEST(FixNeedles, ManyNeedlesEachTheKernelForce)
   load(l, write_chain(dir, n, a, y0));
   std::string at;
   std::vector<std::array<double, 2>> pos;
-  for (int i = 0; i < 9; i++)
-    for (double yn : {y0 + 0.2e-3 - 4e-3, y0 - 0.2e-3, 0.0}) {
-      pos.push_back({0.05e-3 + i * 0.45e-3, yn});
+  // (rows 0.22 mm on either side of the chain, staggered by half the 0.55 mm pitch, so that no two
+  // needles overlap, also through the faces: the fix refuses overlapping needles)
+  for (int i = 0; i < 7; i++)
+    for (int row = 0; row < 3; row++) {
+      const double yn = row == 0 ? y0 + 0.22e-3 - 4e-3 : row == 1 ? y0 - 0.22e-3 : 0.0;
+      pos.push_back({(row == 1 ? 0.325e-3 : 0.05e-3) + i * 0.55e-3, yn});
       at += fmt::format(" at {} {}", pos.back()[0], yn);
     }
   l.cmd(fmt::format("fix nd all ncf/needles diameter {} kn {} chain 1 {}{} move -1e-4 0 length 1.5e-3 tip 1e-4",
