@@ -37,9 +37,7 @@ FixNCFDamp::FixNCFDamp(LAMMPS *lmp, int narg, char **arg) :
                narg > 4 ? " (one gamma for the group: fix viscous's scale keyword is not taken)"
                         : "");
   }
-  gamma = NCF_LMP::number(lmp, "fix ncf/damp", "gamma", arg[3]);
-  if (!(gamma > 0.0))
-    error->all(FLERR, "fix ncf/damp: gamma {} must be > 0 (force/velocity units)", arg[3]);
+  gamma = read_gamma("fix ncf/damp", arg[3]);
 
   scalar_flag = 1;
   global_freq = 1;
@@ -125,13 +123,16 @@ int FixNCFDamp::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "gamma") != 0) return 0;
   if (narg < 2) error->all(FLERR, "fix_modify {} (ncf/damp): keyword 'gamma' needs a value", id);
-  const double g =
-      NCF_LMP::number(lmp, "fix_modify " + std::string(id) + " (ncf/damp)", "gamma", arg[1]);
-  if (!(g > 0.0))
-    error->all(FLERR, "fix_modify {} (ncf/damp): gamma {} must be > 0 (force/velocity units)", id,
-               arg[1]);
-  gamma = g;
+  gamma = read_gamma("fix_modify " + std::string(id) + " (ncf/damp)", arg[1]);
   return 2;
+}
+
+// a drag coefficient: a finite number > 0 (`what` names the command in the messages)
+double FixNCFDamp::read_gamma(const std::string &what, const char *text)
+{
+  const double g = NCF_LMP::number(lmp, what, "gamma", text);
+  if (!(g > 0.0)) error->all(FLERR, "{}: gamma {} must be > 0 (force/velocity units)", what, text);
+  return g;
 }
 
 /* ----------------------------------------------------------------------

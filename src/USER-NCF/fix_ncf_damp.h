@@ -16,6 +16,8 @@ FixStyle(ncf/damp,FixNCFDamp);
 
 #include "fix.h"
 
+#include <string>
+
 namespace LAMMPS_NS {
 
 class FixNCFDamp : public Fix {
@@ -48,6 +50,7 @@ class FixNCFDamp : public Fix {
   double **kept;
 
   void drag(int i, const double *vel);
+  double read_gamma(const std::string &what, const char *text);
 };
 
 }    // namespace LAMMPS_NS
