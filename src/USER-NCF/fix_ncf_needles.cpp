@@ -59,23 +59,28 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   restart_global = 1;
 
   chain_d.assign(atom->ntypes + 1, 0.0);
+  const std::string W = "fix ncf/needles";
   auto number = [&](int i, const char *key) {
-    if (i >= narg) error->all(FLERR, "fix ncf/needles: keyword '{}' needs more values", key);
-    return NCF_LMP::number(lmp, "fix ncf/needles", key, arg[i]);
+    NCF_LMP::need_values(lmp, W, key, i - 1, narg, 1);
+    return NCF_LMP::number(lmp, W, key, arg[i]);
   };
+  // (the needles are frictionless: of the contact keywords only kn)
+  NCF_LMP::ContactReader reader(lmp, W, {NCF::ContactKey::KN}, {"at", "chain"});
+  NCF::ContactCoeffs cc;
+  bool chain_given = false;
   int iarg = 3;
-  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/needles", {"at", "chain"});
   while (iarg < narg) {
+    if (reader.read(iarg, narg, arg, cc)) {
+      kn = cc.kn;
+      continue;
+    }
     const std::string key = arg[iarg];
-    once(key, key == "move" || key == "target" || utils::strmatch(key, "^v_") ? "motion" : "");
+    reader.once(key,
+                key == "move" || key == "target" || utils::strmatch(key, "^v_") ? "motion" : "");
     if (key == "diameter") {
       const double d = number(iarg + 1, "diameter");
       if (!(d > 0.0)) error->all(FLERR, "fix ncf/needles: diameter {} must be > 0", arg[iarg + 1]);
       radius = 0.5 * d;
-      iarg += 2;
-    } else if (key == "kn") {
-      kn = number(iarg + 1, "kn");
-      if (!(kn > 0.0)) error->all(FLERR, "fix ncf/needles: kn {} must be > 0", arg[iarg + 1]);
       iarg += 2;
     } else if (key == "tip") {
       tip = number(iarg + 1, "tip");
@@ -87,27 +92,19 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR, "fix ncf/needles: length {} must be > 0", arg[iarg + 1]);
       iarg += 2;
     } else if (key == "chain") {
-      if (iarg + 2 >= narg)
-        error->all(FLERR,
-                   "fix ncf/needles: keyword 'chain' needs an atom type range and a diameter");
-      int lo, hi;
-      NCF_LMP::types(lmp, "fix ncf/needles", "chain", arg[iarg + 1], atom->ntypes, lo, hi);
-      const double d = number(iarg + 2, "chain");
-      if (!(d > 0.0))
-        error->all(FLERR, "fix ncf/needles: chain diameter {} must be > 0", arg[iarg + 2]);
-      NCF_LMP::diameter_in_box(lmp, "fix ncf/needles", "chain diameter", arg[iarg + 2], d);
-      for (int t = lo; t <= hi; t++) chain_d[t] = d;
-      iarg += 3;
+      NCF_LMP::read_type_diameters(lmp, W, key, iarg, narg, arg, chain_d);
+      chain_given = true;
     } else if (key == "at") {
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 2, "two values, X Y");
       nx.push_back(number(iarg + 1, "at"));
       ny.push_back(number(iarg + 2, "at"));
       iarg += 3;
     } else if (key == "file") {
-      if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'file' needs a file name");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 1, "a file name");
       NCF_LMP::read_needles(lmp, "fix ncf/needles", arg[iarg + 1], nx, ny);
       iarg += 2;
     } else if (key == "direction") {
-      if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/needles: keyword 'direction' needs a value");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
       const std::string v = arg[iarg + 1];
       if (v == "down")
         direction = -1;
@@ -129,9 +126,15 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   if (nx.empty()) error->all(FLERR, "fix ncf/needles: no needle: give 'file FILE' or 'at X Y'");
   if (motion.kind == NCF::Motion::NONE)
     error->all(FLERR, "fix ncf/needles: give the motion of the tips: move, target or v_NAME");
-  bool any = false;
-  for (double d : chain_d) any |= d > 0.0;
-  if (!any) error->all(FLERR, "fix ncf/needles: give the chain diameters: 'chain TYPES D'");
+  {
+    // (taken from the pair: the types of the group's nodes now, since the largest diameter
+    // sizes the needles' reach)
+    std::vector<int> mine(atom->ntypes + 1, 0), present(atom->ntypes + 1, 0);
+    for (int i = 0; i < atom->nlocal; i++)
+      if (atom->mask[i] & groupbit) mine[atom->type[i]] = 1;
+    MPI_Allreduce(mine.data(), present.data(), atom->ntypes + 1, MPI_INT, MPI_MAX, world);
+    NCF_LMP::pair_diameters(lmp, W, "chain", chain_given, chain_d, &present);
+  }
   const bool tip_given = tip >= 0.0, length_given = length >= 0.0;
   if (tip < 0.0) tip = radius;
   // the largest z margin of a segment (see post_force): its contact radius rc plus the height of

@@ -33,7 +33,7 @@ static constexpr int NTOT = 5;
 /* ---------------------------------------------------------------------- */
 
 FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), kn(0.0), kt(0.0), mu(0.0), damp(0.0), slip(nullptr), use_history(0),
+    Fix(lmp, narg, arg), slip(nullptr), use_history(0),
     energy(0.0), dt_contact(0.0), idx_l0(-1)
 {
   scalar_flag = 1;
@@ -56,7 +56,7 @@ FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
   for (int k = 0; k < 2; k++) zprev[k] = plate[k].z;
 
   // friction history only when the scene has friction
-  use_history = (mu > 0.0 && kt > 0.0) ? 1 : 0;
+  use_history = (cc.mu > 0.0 && cc.kt > 0.0) ? 1 : 0;
   if (use_history) {
     restart_peratom = 1;
     FixNCFPlate::grow_arrays(atom->nmax);
@@ -77,69 +77,43 @@ FixNCFPlate::~FixNCFPlate()
 }
 
 /* ----------------------------------------------------------------------
-   fix ID group ncf/plate kn KN [kt KT] [mu MU] [damp C] diameter TYPES D [diameter ...]
+   fix ID group ncf/plate kn KN [kt KT] [mu MU] [damp C] [diameter TYPES D ...]
                               [lower SPEC] [upper SPEC]
    SPEC: z Z | move Z0 V | target Z0 ZT V | v_NAME
+   the contact keywords as in pair_coeff ncf/contact (kt a ratio of kn); the chain diameters
+   those of pair ncf/contact unless given
 ------------------------------------------------------------------------- */
 
 void FixNCFPlate::parse(int narg, char **arg)
 {
-  bool have_kn = false;
+  const std::string W = "fix ncf/plate";
+  NCF_LMP::ContactReader reader(lmp, W, NCF_LMP::ContactReader::all_keys(),
+                                {"diameter", "lower", "upper"});
+  bool diameter_given = false;
   int iarg = 3;
-  auto positive = [&](const char *key, const char *text, bool strict) {
-    const double v = NCF_LMP::number(lmp, "fix ncf/plate", key, text);
-    if (strict ? !(v > 0.0) : !(v >= 0.0))
-      error->all(FLERR, "fix ncf/plate: {} must be {} 0, got {}", key, strict ? ">" : ">=", text);
-    return v;
-  };
-  NCF_LMP::KeywordsOnce once(lmp, "fix ncf/plate", {"diameter", "lower", "upper"});
   while (iarg < narg) {
+    if (reader.read(iarg, narg, arg, cc)) continue;
     const std::string key = arg[iarg];
-    once(key);
+    reader.once(key);
     if (key == "lower" || key == "upper") {
       Plate &p = plate[key == "lower" ? 0 : 1];
       if (p.motion.kind != NCF::Motion::NONE)
-        error->all(FLERR, "fix ncf/plate: keyword '{}' given twice (one plate of each)", key);
+        error->all(FLERR, "{}: keyword '{}' given twice (one plate of each)", W, key);
       iarg = NCF_LMP::parse_motion(lmp, "fix ncf/plate: '" + key, iarg + 1, narg, arg, p.motion,
                                    p.var, true);
-      continue;
-    }
-    if (key != "kn" && key != "kt" && key != "mu" && key != "damp" && key != "diameter")
-      error->all(FLERR, "fix ncf/plate: unknown keyword '{}'", key);
-    if (key == "diameter") {
-      if (iarg + 2 >= narg)
-        error->all(FLERR, "fix ncf/plate: keyword 'diameter' needs an atom type range and a value");
-      int lo, hi;
-      NCF_LMP::types(lmp, "fix ncf/plate", "diameter", arg[iarg + 1], atom->ntypes, lo, hi);
-      const double d = positive("diameter", arg[iarg + 2], true);
-      NCF_LMP::diameter_in_box(lmp, "fix ncf/plate", "diameter", arg[iarg + 2], d);
-      for (int t = lo; t <= hi; t++) diameter[t] = d;
-      iarg += 3;
-      continue;
-    }
-    if (iarg + 1 >= narg) error->all(FLERR, "fix ncf/plate: keyword '{}' needs a value", key);
-    if (key == "kn" && have_kn) error->all(FLERR, "fix ncf/plate: keyword 'kn' given twice");
-    if (key == "kn") {
-      kn = positive("kn", arg[iarg + 1], true);
-      have_kn = true;
-    } else if (key == "kt")
-      kt = positive("kt", arg[iarg + 1], false);
-    else if (key == "mu")
-      mu = positive("mu", arg[iarg + 1], false);
-    else
-      damp = positive("damp", arg[iarg + 1], false);
-    iarg += 2;
+    } else if (key == "diameter") {
+      NCF_LMP::read_type_diameters(lmp, W, key, iarg, narg, arg, diameter);
+      diameter_given = true;
+    } else
+      error->all(FLERR, "{}: unknown keyword '{}'", W, key);
   }
-  if (!have_kn) error->all(FLERR, "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required");
+  if (!reader.has(NCF::ContactKey::KN))
+    error->all(FLERR, "{}: keyword 'kn' (normal stiffness, Pa) is required", W);
   if (plate[0].motion.kind == NCF::Motion::NONE && plate[1].motion.kind == NCF::Motion::NONE)
-    error->all(FLERR, "fix ncf/plate: define at least one plate with 'lower' or 'upper'");
-  if (mu > 0.0 && kt == 0.0)
-    error->all(FLERR, "fix ncf/plate: friction (mu {}) needs a tangential stiffness 'kt' > 0", mu);
-  bool any = false;
-  for (int t = 1; t <= atom->ntypes; t++) any |= diameter[t] > 0.0;
-  if (!any)
-    error->all(FLERR,
-               "fix ncf/plate: give the chain diameter of the atom types: 'diameter TYPES D'");
+    error->all(FLERR, "{}: define at least one plate with 'lower' or 'upper'", W);
+  if (cc.mu > 0.0 && cc.kt == 0.0)
+    error->all(FLERR, "{}: friction (mu {}) needs a tangential stiffness 'kt' > 0", W, cc.mu);
+  NCF_LMP::pair_diameters(lmp, W, "diameter", diameter_given, diameter);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -221,7 +195,7 @@ void FixNCFPlate::check_nodes()
       continue;
     }
     const double m = atom->rmass ? atom->rmass[i] : atom->mass[type[i]];
-    dtmin = std::min(dtmin, 2.0 * sqrt(m / (kn * l)));
+    dtmin = std::min(dtmin, 2.0 * sqrt(m / (cc.kn * l)));
   }
   int any = 0;
   MPI_Allreduce(&badtype, &any, 1, MPI_INT, MPI_MAX, world);
@@ -246,7 +220,7 @@ void FixNCFPlate::check_nodes()
                "fix ncf/plate: timestep {:.6g} is above the critical time step {:.6g} of the "
                "plate contacts (kn {:.6g} Pa on the lightest node per tributary length); lower kn "
                "or the timestep, or scale the masses",
-               update->dt, dt_contact, kn);
+               update->dt, dt_contact, cc.kn);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -304,7 +278,7 @@ void FixNCFPlate::apply()
         continue;
       }
       const double l = tributary_length(i);
-      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);
+      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, cc.kn, l, cc.damp, v[i][2] - p.vz);
       f[i][2] += side * c.force;
       local[k][0] += side * c.force;
       local[k][3] += 1.0;
@@ -314,7 +288,7 @@ void FixNCFPlate::apply()
         NCF::Vec3 slipv{s[0], s[1], s[2]};
         const NCF::Vec3 n{0.0, 0.0, (double) side};
         const NCF::Vec3 vrel{v[i][0], v[i][1], v[i][2] - p.vz};
-        const auto fr = NCF::friction_step(slipv, n, vrel, dt, kt * l, c.force, mu, advance);
+        const auto fr = NCF::friction_step(slipv, n, vrel, dt, cc.kt_stiffness() * l, c.force, cc.mu, advance);
         if (advance) {
           s[0] = slipv.x;
           s[1] = slipv.y;

@@ -15,6 +15,8 @@ FixStyle(ncf/plate,FixNCFPlate);
 #define LMP_FIX_NCF_PLATE_H
 
 #include "fix.h"
+
+#include "ncf_contact_model.h"
 #include "ncf_clock_lammps.h"
 #include "ncf_motion.h"
 
@@ -57,8 +59,8 @@ class FixNCFPlate : public Fix {
     double z = 0.0, vz = 0.0;    // current position and velocity
   };
   Plate plate[2];    // 0: lower (normal +z), 1: upper (normal -z)
-  double kn, kt, mu, damp;
-  std::vector<double> diameter;    // per atom type, 0 = not given
+  NCF::ContactCoeffs cc;           // the plates' contact with the chains (ncf_contact_model.h)
+  std::vector<double> diameter;    // per atom type, 0 = none (given, or pair ncf/contact's)
   NCF_LMP::ToolClock clock;        // time of the motion since the fix definition
   double zprev[2];                 // VARIABLE: previous position for the plate velocity
 

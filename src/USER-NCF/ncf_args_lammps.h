@@ -11,10 +11,15 @@
 #ifndef NCF_ARGS_LAMMPS_H
 #define NCF_ARGS_LAMMPS_H
 
+#include "atom.h"
 #include "domain.h"
 #include "error.h"
+#include "force.h"
 #include "lammps.h"
+#include "pair.h"
 #include "utils.h"
+
+#include "ncf_contact_model.h"
 
 #include <cerrno>
 #include <climits>
@@ -157,6 +162,135 @@ class KeywordsOnce {
   std::vector<std::string> repeatable;
   std::vector<std::pair<std::string, std::string>> seen;
 };
+
+// The look-ahead check of every style: keyword arg[iarg] needs n values after it. `values` names
+// them when there is more than one ("an atom type range and a value").
+inline void need_values(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                        int iarg, int narg, int n, const char *values = nullptr)
+{
+  if (iarg + n < narg) return;
+  if (values)
+    lmp->error->all(FLERR, "{}: keyword '{}' needs {}", what, key, values);
+  lmp->error->all(FLERR, "{}: keyword '{}' needs a value", what, key);
+}
+
+// The contact keywords of every style (kn, kt, mu, damp; NCF::ContactCoeffs gives their meaning
+// and unit), read in one way with one message form. `allowed` lists the keys a style takes (the
+// needles are frictionless: kn only); each keyword once (`once` is shared with the style's other
+// keywords).
+class ContactReader {
+ public:
+  ContactReader(LAMMPS_NS::LAMMPS *lmp, const std::string &what,
+                std::vector<NCF::ContactKey> allowed = {NCF::ContactKey::KN, NCF::ContactKey::KT,
+                                                        NCF::ContactKey::MU,
+                                                        NCF::ContactKey::DAMP},
+                std::vector<std::string> repeatable = {}) :
+      lmp(lmp),
+      what(what), allowed(std::move(allowed)), once(lmp, what, std::move(repeatable))
+  {
+  }
+  static std::vector<NCF::ContactKey> all_keys()
+  {
+    return {NCF::ContactKey::KN, NCF::ContactKey::KT, NCF::ContactKey::MU, NCF::ContactKey::DAMP};
+  }
+  // reads the keyword at arg[iarg] into c and advances iarg past its value when it is a contact
+  // keyword; false (iarg unchanged) when it is not one
+  bool read(int &iarg, int narg, char **arg, NCF::ContactCoeffs &c)
+  {
+    const std::string key = arg[iarg];
+    const NCF::ContactKey k = NCF::contact_key(key);
+    if (k == NCF::ContactKey::NONE) return false;
+    bool ok = false;
+    for (auto a : allowed) ok |= a == k;
+    if (!ok) {
+      std::string list;
+      for (auto a : allowed) list += std::string(list.empty() ? "" : ", ") + NCF::contact_key_name(a);
+      lmp->error->all(FLERR, "{}: contact keyword '{}' is not one of this style's ({})", what, key,
+                      list);
+    }
+    once(key);
+    need_values(lmp, what, key, iarg, narg, 1);
+    const double v = number(lmp, what, key, arg[iarg + 1]);
+    const std::string bad = NCF::contact_value_error(k, v, arg[iarg + 1]);
+    if (!bad.empty()) lmp->error->all(FLERR, "{}: {}", what, bad);
+    NCF::set_contact_value(c, k, v);
+    got.push_back(k);
+    names.push_back(key);
+    iarg += 2;
+    return true;
+  }
+  bool has(NCF::ContactKey k) const
+  {
+    for (auto g : got)
+      if (g == k) return true;
+    return false;
+  }
+  // the contact keywords read, in order
+  const std::vector<std::string> &keys() const { return names; }
+
+ private:
+  LAMMPS_NS::LAMMPS *lmp;
+  std::string what;
+  std::vector<NCF::ContactKey> allowed;
+
+ public:
+  KeywordsOnce once;    // every keyword of the style once (call it for the others too)
+
+ private:
+  std::vector<NCF::ContactKey> got;
+  std::vector<std::string> names;
+};
+
+// `KEY TYPES D` at arg[iarg]: the chain diameter D [m] of the atom types TYPES (a type or a
+// range); advances iarg past it
+inline void read_type_diameters(LAMMPS_NS::LAMMPS *lmp, const std::string &what,
+                                const std::string &key, int &iarg, int narg, char **arg,
+                                std::vector<double> &diameter)
+{
+  need_values(lmp, what, key, iarg, narg, 2, "an atom type range and a diameter");
+  int lo, hi;
+  types(lmp, what, key, arg[iarg + 1], lmp->atom->ntypes, lo, hi);
+  const double d = number(lmp, what, key, arg[iarg + 2]);
+  if (!(d > 0.0)) lmp->error->all(FLERR, "{}: {} {} must be > 0", what, key, arg[iarg + 2]);
+  diameter_in_box(lmp, what, key, arg[iarg + 2], d);
+  for (int t = lo; t <= hi; t++) diameter[t] = d;
+  iarg += 3;
+}
+
+// A chain's diameter is given once, in pair_coeff ncf/contact: a fix that did not get its own
+// (`given` false) takes the pair's; one that did must agree with the pair where both have one.
+// `only` (if given) restricts what is taken to the types it flags. Afterwards at least one type
+// has a diameter.
+inline void pair_diameters(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const std::string &key,
+                           bool given, std::vector<double> &diameter,
+                           const std::vector<int> *only = nullptr)
+{
+  auto *pair = lmp->force->pair_match("ncf/contact", 1, 0);
+  const double *pd = nullptr;
+  if (pair) {
+    int dim = 0;
+    pd = static_cast<const double *>(pair->extract("diameter", dim));
+  }
+  const int n = (int) diameter.size() - 1;
+  if (pd)
+    for (int t = 1; t <= n; t++) {
+      if (!(pd[t] > 0.0) || (only && !(*only)[t])) continue;
+      if (!given)
+        diameter[t] = pd[t];
+      else if (diameter[t] > 0.0 && diameter[t] != pd[t])
+        lmp->error->all(FLERR,
+                        "{}: {} {} of atom type {} differs from pair ncf/contact's diameter {}: a "
+                        "chain's diameter is given once (leave '{}' out to use the pair's)",
+                        what, key, diameter[t], t, pd[t], key);
+    }
+  bool any = false;
+  for (int t = 1; t <= n; t++) any |= diameter[t] > 0.0;
+  if (!any)
+    lmp->error->all(FLERR,
+                    "{}: no chain diameter: define pair_style ncf/contact with its diameters "
+                    "before this fix, or give '{} TYPES D'",
+                    what, key);
+}
 
 // Needle positions in the plane, as the generator's PREFIX.needles lists them: one "x y" per line
 // (lines up to 1023 characters), '#' comments. Every rank reads the small file.

@@ -73,9 +73,8 @@ PairNCFContact::PairNCFContact(LAMMPS *lmp) : Pair(lmp)
   oneway = 0;
   dt_critical = 0.0;
   ghost_user = ghost_set = -1.0;
-  kn = ktr = mu = damp = cut = reachf = nullptr;
+  cut = reachf = nullptr;
   tstride = 0;
-  given = nullptr;
   lmax_used = 0.0;
   reach_max = diam_max = 0.0;
   use_history = use_velocity = false;
@@ -155,13 +154,8 @@ PairNCFContact::~PairNCFContact()
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
-    memory->destroy(kn);
-    memory->destroy(ktr);
-    memory->destroy(mu);
-    memory->destroy(damp);
     memory->destroy(cut);
     memory->destroy(reachf);
-    memory->destroy(given);
   }
 }
 
@@ -171,20 +165,14 @@ void PairNCFContact::allocate()
   const int n = atom->ntypes;
   memory->create(setflag, n + 1, n + 1, "pair:setflag");
   memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
-  memory->create(kn, n + 1, n + 1, "pair:kn");
-  memory->create(ktr, n + 1, n + 1, "pair:ktr");
-  memory->create(mu, n + 1, n + 1, "pair:mu");
-  memory->create(damp, n + 1, n + 1, "pair:damp");
   memory->create(cut, n + 1, n + 1, "pair:cut");
   memory->create(reachf, n + 1, n + 1, "pair:reach");
-  memory->create(given, n + 1, n + 1, "pair:given");
   for (int i = 0; i <= n; i++)
     for (int j = 0; j <= n; j++) {
-      setflag[i][j] = given[i][j] = 0;
-      kn[i][j] = ktr[i][j] = mu[i][j] = damp[i][j] = cut[i][j] = reachf[i][j] = 0.0;
+      setflag[i][j] = 0;
+      cut[i][j] = reachf[i][j] = 0.0;
     }
-  diameter.assign(n + 1, 0.0);
-  diamset.assign(n + 1, 0);
+  table.resize(n);
 }
 
 /* ----------------------------------------------------------------------
@@ -199,9 +187,9 @@ void PairNCFContact::settings(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     once(key);
-    if (iarg + 2 > narg) error->all(FLERR, "pair_style ncf/contact: keyword {} needs a value", key);
-    const char *val = arg[iarg + 1];
     const std::string W = "pair_style ncf/contact";
+    NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
+    const char *val = arg[iarg + 1];
     if (key == "ramp") {
       ramp_frac = NCF_LMP::number(lmp, W, key, val);
       if (!(ramp_frac > 0.0) || ramp_frac > 1.0)
@@ -250,7 +238,7 @@ void PairNCFContact::settings(int narg, char **arg)
     } else if (key == "work") {
       work_flag = NCF_LMP::logical(lmp, W, key, val) ? 1 : 0;
     } else {
-      error->all(FLERR, "pair_style ncf/contact: unknown keyword {}", key);
+      error->all(FLERR, "pair_style ncf/contact: unknown keyword '{}'", key);
     }
     iarg += 2;
   }
@@ -302,72 +290,41 @@ void PairNCFContact::coeff(int narg, char **arg)
   NCF_LMP::types(lmp, W, "I", arg[0], atom->ntypes, ilo, ihi);
   NCF_LMP::types(lmp, W, "J", arg[1], atom->ntypes, jlo, jhi);
 
-  double kn_one = -1.0, kt_one = 1.0, mu_one = 0.0, damp_one = 0.0, d_one = -1.0;
-  std::vector<std::string> seen;
+  NCF::ContactCoeffs one;
+  double d_one = -1.0;
+  NCF_LMP::ContactReader reader(lmp, W);
   int iarg = 2;
   while (iarg < narg) {
+    if (reader.read(iarg, narg, arg, one)) continue;
     const std::string key = arg[iarg];
-    if (key != "kn" && key != "kt" && key != "mu" && key != "damp" && key != "diameter")
-      error->all(FLERR, "pair_coeff ncf/contact: unknown keyword {}", key);
-    if (iarg + 2 > narg) error->all(FLERR, "pair_coeff ncf/contact: keyword {} needs a value", key);
-    for (const auto &k : seen)
-      if (k == key) error->all(FLERR, "pair_coeff ncf/contact: keyword {} given twice", key);
-    seen.push_back(key);
-    const char *val = arg[iarg + 1];
-    const double v = NCF_LMP::number(lmp, W, key, val);
-    if (key == "kn") {
-      if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: kn {} must be > 0", val);
-      kn_one = v;
-    } else if (key == "kt") {
-      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: kt {} must be >= 0", val);
-      kt_one = v;
-    } else if (key == "mu") {
-      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: mu {} must be >= 0", val);
-      mu_one = v;
-    } else if (key == "damp") {
-      if (v < 0.0) error->all(FLERR, "pair_coeff ncf/contact: damp {} must be >= 0", val);
-      damp_one = v;
-    } else if (key == "diameter") {
-      if (!(v > 0.0)) error->all(FLERR, "pair_coeff ncf/contact: diameter {} must be > 0", val);
-      NCF_LMP::diameter_in_box(lmp, "pair_coeff ncf/contact", "diameter", val, v);
-      d_one = v;
-    }
+    if (key != "diameter") error->all(FLERR, "{}: unknown keyword '{}'", W, key);
+    reader.once(key);
+    NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
+    d_one = NCF_LMP::number(lmp, W, key, arg[iarg + 1]);
+    if (!(d_one > 0.0)) error->all(FLERR, "{}: diameter {} must be > 0", W, arg[iarg + 1]);
+    NCF_LMP::diameter_in_box(lmp, W, "diameter", arg[iarg + 1], d_one);
     iarg += 2;
   }
-  if (kn_one < 0.0 && d_one < 0.0)
-    error->all(FLERR, "pair_coeff ncf/contact: give kn (and optionally kt, mu, damp, diameter)");
-  if (kn_one < 0.0)
-    for (const auto &k : seen)
-      if (k != "diameter")
-        error->all(FLERR,
-                   "pair_coeff ncf/contact: keyword {} for types {} {} needs kn in the same "
-                   "pair_coeff (a line without kn sets only the diameter)",
-                   k, arg[0], arg[1]);
+  if (!reader.has(NCF::ContactKey::KN) && d_one < 0.0)
+    error->all(FLERR, "{}: give kn (and optionally kt, mu, damp, diameter)", W);
+  if (!reader.has(NCF::ContactKey::KN) && !reader.keys().empty())
+    error->all(FLERR,
+               "{}: keyword {} for types {} {} needs kn in the same pair_coeff (a line without kn "
+               "sets only the diameter)",
+               W, reader.keys().front(), arg[0], arg[1]);
 
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {
-    if (d_one > 0.0) {
-      diameter[i] = d_one;
-      diamset[i] = 1;
-    }
+    if (d_one > 0.0) table.set_diameter(i, d_one);
     for (int j = MAX(jlo, i); j <= jhi; j++) {
-      if (d_one > 0.0) {
-        diameter[j] = d_one;
-        diamset[j] = 1;
-      }
-      if (kn_one > 0.0) {
-        kn[i][j] = kn_one;
-        ktr[i][j] = kt_one;
-        mu[i][j] = mu_one;
-        damp[i][j] = damp_one;
-        setflag[i][j] = given[i][j] = 1;
-      } else
-        setflag[i][j] = 1;    // a diameter only: init_style says which kn is missing
+      if (d_one > 0.0) table.set_diameter(j, d_one);
+      // (a diameter only: init_style says which kn is missing)
+      if (reader.has(NCF::ContactKey::KN)) table.set(i, j, one);
+      setflag[i][j] = 1;
       count++;
     }
   }
-  if (count == 0)
-    error->all(FLERR, "pair_coeff ncf/contact: no type pair in {} {}", arg[0], arg[1]);
+  if (count == 0) error->all(FLERR, "{}: no type pair in {} {}", W, arg[0], arg[1]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -442,7 +399,7 @@ void PairNCFContact::find_lmax()
   double knmax = 0.0;
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++)
-      if (given[i][j]) knmax = MAX(knmax, kn[i][j]);
+      if (table.given(i, j)) knmax = MAX(knmax, table.coeffs(i, j).kn);
   double omega2 = 0.0;
   for (int i = 0; i < nlocal; i++) {
     double len = 0.0;
@@ -585,13 +542,13 @@ void PairNCFContact::init_style()
   tstride = atom->ntypes + 1;
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++)
-      if (!given[i][j] && (!given[i][i] || !given[j][j]))
+      if (!table.given(i, j) && (!table.given(i, i) || !table.given(j, j)))
         error->all(FLERR,
                    "pair ncf/contact: no kn for atom types {} {} (pair_coeff {} {} kn KN), and "
                    "none to mix from",
                    i, j, i, j);
   for (int i = 1; i <= atom->ntypes; i++)
-    if (!diamset[i])
+    if (!table.diameter_given(i))
       error->all(FLERR,
                  "pair ncf/contact: no diameter for atom type {} (pair_coeff {} {} diameter D)", i,
                  i, i);
@@ -599,11 +556,11 @@ void PairNCFContact::init_style()
   use_history = use_velocity = false;
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) {
-      double m = mu[i][j], g = damp[i][j];
-      if (!given[i][j]) {    // mixed values (init_one mixes the same way)
-        m = std::sqrt(mu[i][i] * mu[j][j]);
-        g = std::sqrt(damp[i][i] * damp[j][j]);
-      }
+      // (mixed values as init_one mixes them)
+      const NCF::ContactCoeffs c = table.given(i, j)
+          ? table.coeffs(i, j)
+          : NCF::mix(table.coeffs(i, i), table.coeffs(j, j));
+      const double m = c.mu, g = c.damp;
       if (m > 0.0) use_history = true;
       if (m > 0.0 || g > 0.0) use_velocity = true;
     }
@@ -657,7 +614,7 @@ void PairNCFContact::init_style()
   // (2 lmax + reach + skin); for the friction history
   // also the owners of the segments next to B along its chain (+ lmax)
   diam_max = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++) diam_max = MAX(diam_max, diameter[i]);
+  for (int i = 1; i <= atom->ntypes; i++) diam_max = MAX(diam_max, table.diameter(i));
   const double need = diam_max * (1.0 + ramp_frac + 4.0 * endcap_frac) + neighbor->skin +
       (use_history ? 3.0 : 2.0) * lmax_used;
   // The cutoff is the user's raised to this need, set anew at every init: it shrinks again when
@@ -677,37 +634,25 @@ void PairNCFContact::init_style()
 
 double PairNCFContact::init_one(int i, int j)
 {
-  if (!given[i][j]) {
-    if (!given[i][i] || !given[j][j])
-      error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable",
-                 i, j);
-    // springs in series for the stiffness; geometric mean for friction and damping
-    kn[i][j] = 2.0 * kn[i][i] * kn[j][j] / (kn[i][i] + kn[j][j]);
-    ktr[i][j] = 0.5 * (ktr[i][i] + ktr[j][j]);
-    mu[i][j] = std::sqrt(mu[i][i] * mu[j][j]);
-    damp[i][j] = std::sqrt(damp[i][i] * damp[j][j]);
-  }
+  if (!table.resolve(i, j))
+    error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable",
+               i, j);
   // the coefficients as the run will use them: pair_coeff checks what it reads, but fix adapt
   // changes kn, mu, damp and diameter at run time (and calls init_one again, through reinit)
-  const double cf[4] = {kn[i][j], ktr[i][j], mu[i][j], damp[i][j]};
-  const char *cname[4] = {"kn", "kt", "mu", "damp"};
-  for (int k = 0; k < 4; k++)
-    if (!std::isfinite(cf[k]) || (k == 0 ? !(cf[k] > 0.0) : !(cf[k] >= 0.0)))
-      error->all(FLERR,
-                 "pair ncf/contact: {} of atom types {} {} is {} (changed by fix adapt?); it "
-                 "must be a finite number {}",
-                 cname[k], i, j, cf[k], k == 0 ? "> 0" : ">= 0");
+  const NCF::ContactCoeffs c = table.coeffs(i, j);
+  double bad = 0.0;
+  if (const char *name = NCF::invalid_coeff(c, &bad))
+    error->all(FLERR,
+               "pair ncf/contact: {} of atom types {} {} is {} (changed by fix adapt?); it "
+               "must be a finite number {}",
+               name, i, j, bad, std::string(name) == "kn" ? "> 0" : ">= 0");
   for (int t : {i, j})
-    if (!(std::isfinite(diameter[t]) && diameter[t] > 0.0))
+    if (!(std::isfinite(table.diameter(t)) && table.diameter(t) > 0.0))
       error->all(FLERR,
                  "pair ncf/contact: diameter of atom type {} is {} (changed by fix adapt?); it "
                  "must be a finite number > 0",
-                 t, diameter[t]);
-  kn[j][i] = kn[i][j];
-  ktr[j][i] = ktr[i][j];
-  mu[j][i] = mu[i][j];
-  damp[j][i] = damp[i][j];
-  const double dc = 0.5 * (diameter[i] + diameter[j]);
+                 t, table.diameter(t));
+  const double dc = 0.5 * (table.diameter(i) + table.diameter(j));
   // the reach of the law between the axes of two segments, D (1 + ramp). LAMMPS uses it (plus the
   // skin) for its bins, among them those by which it sorts the atoms in memory (atom_modify
   // sort): nodes close in space stay close in memory, which the random accesses of the contact
@@ -719,11 +664,11 @@ double PairNCFContact::init_one(int i, int j)
   tpar.resize((size_t) tstride * tstride);
   TypePair &tpij = tpar[type_pair(i, j)];
   tpij.dc = dc;
-  tpij.kn = kn[i][j];
+  tpij.kn = c.kn;
   tpij.ramp = ramp_frac * dc;
-  tpij.kt = ktr[i][j] * kn[i][j];
-  tpij.mu = mu[i][j];
-  tpij.damp = damp[i][j];
+  tpij.kt = c.kt_stiffness();
+  tpij.mu = c.mu;
+  tpij.damp = c.damp;
   tpar[type_pair(j, i)] = tpij;
   return cut[i][j];
 }
@@ -780,59 +725,69 @@ void PairNCFContact::read_restart_settings(FILE *fp)
 void PairNCFContact::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
-  const int n = atom->ntypes;
-  for (int i = 1; i <= n; i++) {
-    fwrite(&diamset[i], sizeof(int), 1, fp);
-    fwrite(&diameter[i], sizeof(double), 1, fp);
-    for (int j = i; j <= n; j++) {
-      fwrite(&given[i][j], sizeof(int), 1, fp);
-      if (given[i][j]) {
-        fwrite(&kn[i][j], sizeof(double), 1, fp);
-        fwrite(&ktr[i][j], sizeof(double), 1, fp);
-        fwrite(&mu[i][j], sizeof(double), 1, fp);
-        fwrite(&damp[i][j], sizeof(double), 1, fp);
-      }
-    }
-  }
+  struct Writer {
+    FILE *fp;
+    void i(int v) { fwrite(&v, sizeof(int), 1, fp); }
+    void d(double v) { fwrite(&v, sizeof(double), 1, fp); }
+  } w{fp};
+  table.write(w);
 }
 
 void PairNCFContact::read_restart(FILE *fp)
 {
   read_restart_settings(fp);
   allocate();
-  const int n = atom->ntypes;
-  const int me = comm->me;
-  for (int i = 1; i <= n; i++) {
-    if (me == 0) {
-      utils::sfread(FLERR, &diamset[i], sizeof(int), 1, fp, nullptr, error);
-      utils::sfread(FLERR, &diameter[i], sizeof(double), 1, fp, nullptr, error);
+  // rank 0 reads the table, every rank gets it through the same reader fed by a broadcast
+  std::vector<double> vals;
+  struct Reader {
+    PairNCFContact *p;
+    FILE *fp;
+    std::vector<double> &vals;
+    bool reading;
+    std::size_t next = 0;
+    int i()
+    {
+      if (!reading) return (int) vals[next++];
+      int v;
+      utils::sfread(FLERR, &v, sizeof(int), 1, fp, nullptr, p->error);
+      vals.push_back(v);
+      return v;
     }
-    MPI_Bcast(&diamset[i], 1, MPI_INT, 0, world);
-    MPI_Bcast(&diameter[i], 1, MPI_DOUBLE, 0, world);
-    for (int j = i; j <= n; j++) {
-      if (me == 0) utils::sfread(FLERR, &given[i][j], sizeof(int), 1, fp, nullptr, error);
-      MPI_Bcast(&given[i][j], 1, MPI_INT, 0, world);
-      if (given[i][j]) {
-        double buf[4];
-        if (me == 0) utils::sfread(FLERR, buf, sizeof(double), 4, fp, nullptr, error);
-        MPI_Bcast(buf, 4, MPI_DOUBLE, 0, world);
-        kn[i][j] = buf[0];
-        ktr[i][j] = buf[1];
-        mu[i][j] = buf[2];
-        damp[i][j] = buf[3];
-        setflag[i][j] = 1;
-      }
+    double d()
+    {
+      if (!reading) return vals[next++];
+      double v;
+      utils::sfread(FLERR, &v, sizeof(double), 1, fp, nullptr, p->error);
+      vals.push_back(v);
+      return v;
     }
+  };
+  if (comm->me == 0) {
+    Reader r{this, fp, vals, true};
+    table.read(r);
   }
+  int nvals = (int) vals.size();
+  MPI_Bcast(&nvals, 1, MPI_INT, 0, world);
+  vals.resize(nvals);
+  MPI_Bcast(vals.data(), nvals, MPI_DOUBLE, 0, world);
+  if (comm->me != 0) {
+    Reader r{this, nullptr, vals, false};
+    table.read(r);
+  }
+  const int n = atom->ntypes;
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++)
+      if (table.given(i, j)) setflag[i][j] = 1;
 }
 
 void *PairNCFContact::extract(const char *str, int &dim)
 {
   dim = 2;
-  if (strcmp(str, "kn") == 0) return (void *) kn;
-  if (strcmp(str, "mu") == 0) return (void *) mu;
-  if (strcmp(str, "damp") == 0) return (void *) damp;
+  if (strcmp(str, "kn") == 0) return (void *) table.kn_rows();
+  if (strcmp(str, "kt") == 0) return (void *) table.kt_rows();
+  if (strcmp(str, "mu") == 0) return (void *) table.mu_rows();
+  if (strcmp(str, "damp") == 0) return (void *) table.damp_rows();
   dim = 1;
-  if (strcmp(str, "diameter") == 0) return (void *) diameter.data();
+  if (strcmp(str, "diameter") == 0) return (void *) table.diameters();
   return nullptr;
 }

@@ -17,6 +17,7 @@ PairStyle(ncf/contact,PairNCFContact);
 #include "pair.h"
 
 #include "ncf_contact.h"
+#include "ncf_contact_model.h"
 
 #include <string>
 #include <vector>
@@ -82,11 +83,9 @@ class PairNCFContact : public Pair {
   // this style last set it (the user's raised to what the style needs)
   double ghost_user, ghost_set;
 
-  // per type pair (index 0 unused); diameter per type
-  double **kn, **ktr, **mu, **damp, **cut, **reachf;
-  int **given;    // 1 if set by pair_coeff (not mixed)
-  std::vector<double> diameter;
-  std::vector<int> diamset;
+  // the contact coefficients per type pair and the diameter per type (index 0 unused)
+  NCF::ContactTable table;
+  double **cut, **reachf;    // per type pair: cutoff and reach D (1 + ramp)
 
   // derived at init
   double lmax_used;

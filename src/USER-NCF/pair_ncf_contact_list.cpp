@@ -309,7 +309,7 @@ void PairNCFContact::build_lists()
   // extension of the segments at free chain ends (nodes with one bond), per local/ghost node
   endext.assign(nall, 0.0);
   for (int k = 0; k < nall; k++)
-    if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];
+    if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * table.diameter(type[k]);
   plist.clear();
   clist.clear();
   xbuild.resize(3 * (size_t) nall);
@@ -486,7 +486,7 @@ void PairNCFContact::build_lists()
           const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
           if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
           const int k = g.i0[n];
-          const double dcap = 0.5 * (diameter[type[ao]] + diameter[type[k]]) + skin;
+          const double dcap = 0.5 * (table.diameter(type[ao]) + table.diameter(type[k])) + skin;
           const double dist2 = NCF::point_segment_dist2(a0, a1, Vec3(x[k]));
           if (dist2 >= dcap * dcap) continue;
           const int kp = nbr[2 * k], kq = nbr[2 * k + 1];

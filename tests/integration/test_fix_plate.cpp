@@ -71,6 +71,37 @@ run 0
   EXPECT_NEAR(l.value("f_plate[6]"), KN * g * 2 * A / (5 * A * 1e-3), 1e-6);
 }
 
+// A chain's diameter is given once: without 'diameter' the plate takes pair ncf/contact's (the
+// same force as with it given), and a different value given to the plate is refused
+TEST(FixPlate, TakesTheDiameterOfThePairStyle)
+{
+  auto dir = scratch_dir("plate_pair_diameter");
+  auto force_with = [&](const std::string &plate_diameter) {
+    Lammps l;
+    l.cmds(SETUP);
+    l.cmd("read_data " + write_line(dir, 3, 30e-6, 1e-9));
+    l.cmds(R"(
+bond_coeff 1 modulus 120e9 diameter 69e-6
+pair_style ncf/contact
+pair_coeff * * kn 2e7 diameter 69e-6
+)");
+    l.cmd("fix plate all ncf/plate kn 2e7 " + plate_diameter + " lower z 0.0");
+    l.cmd("run 0");
+    return l.value("f_plate[3]");
+  };
+  const double given = force_with("diameter 1 69e-6");
+  EXPECT_GT(given, 0.0);
+  EXPECT_EQ(force_with(""), given);
+  Lammps l;
+  l.cmds(SETUP);
+  l.cmd("read_data " + write_line(dir, 3, 30e-6, 1e-9));
+  l.cmds("bond_coeff 1 modulus 120e9 diameter 69e-6\npair_style ncf/contact\n"
+         "pair_coeff * * kn 2e7 diameter 69e-6");
+  EXPECT_THAT(error_of([&] { l.cmd("fix plate all ncf/plate kn 2e7 diameter 1 70e-6 lower z 0"); }),
+              HasSubstr("fix ncf/plate: diameter 7e-05 of atom type 1 differs from pair "
+                        "ncf/contact's diameter 6.9e-05: a chain's diameter is given once"));
+}
+
 TEST(FixPlate, TargetMotionStopsAtTheTarget)
 {
   auto dir = scratch_dir("plate_target");
@@ -138,7 +169,7 @@ fix press all addforce 0 0 -1e-4
 )");
     l.cmd(fmt::format("fix pull all addforce {} 0 0", ratio * mu * press));
     l.cmds(R"(
-fix plate all ncf/plate kn 2e7 kt 2e7 mu 0.3 damp 20 diameter 1 69e-6 lower z 0.0
+fix plate all ncf/plate kn 2e7 kt 1.0 mu 0.3 damp 20 diameter 1 69e-6 lower z 0.0
 fix nve all nve
 timestep 2e-8
 variable vx equal vcm(all,x)
@@ -167,7 +198,7 @@ TEST(FixPlate, RestartContinuesTheSameTrajectory)
   auto dir = scratch_dir("plate_restart");
   auto mat = write_mat(dir, 3.0, 31);
   const char *fixes = R"(
-fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower z 0.0 upper target 0.66e-3 3e-4 5
+fix plate all ncf/plate kn 2e7 kt 0.5 mu 0.3 diameter 1 69e-6 lower z 0.0 upper target 0.66e-3 3e-4 5
 fix nve all nve
 fix damp all viscous 1e-7
 timestep 1e-8
@@ -212,7 +243,7 @@ timestep 1e-8
     Lammps l;
     load_mat(l, mat);
     // the lowest chains (axes at z = 0.3 mm) on a lower plate, 0.1 um into it
-    l.cmd("fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower z 0.2656e-3");
+    l.cmd("fix plate all ncf/plate kn 2e7 kt 0.5 mu 0.3 diameter 1 69e-6 lower z 0.2656e-3");
     l.cmds(setup);
     l.cmd("run 200");
     EXPECT_GT(l.value("f_plate[7]"), 0.0);
@@ -259,13 +290,15 @@ INSTANTIATE_TEST_SUITE_P(
                  "fix ncf/plate: keyword 'kn' (normal stiffness, Pa) is required"},
         BadPlate{"kn 2e7 diameter 1 69e-6",
                  "fix ncf/plate: define at least one plate with 'lower' or 'upper'"},
-        BadPlate{"kn 2e7 lower z 0", "fix ncf/plate: give the chain diameter of the atom types"},
-        BadPlate{"kn -1 diameter 1 69e-6 lower z 0", "fix ncf/plate: kn must be > 0, got -1"},
+        BadPlate{"kn 2e7 lower z 0",
+                 "fix ncf/plate: no chain diameter: define pair_style ncf/contact with its "
+                 "diameters before this fix, or give 'diameter TYPES D'"},
+        BadPlate{"kn -1 diameter 1 69e-6 lower z 0", "fix ncf/plate: kn -1 must be > 0"},
         BadPlate{"kn abc diameter 1 69e-6 lower z 0",
                  "fix ncf/plate: value 'abc' of 'kn' is not a number"},
         BadPlate{"kn 2e7 mu -0.1 diameter 1 69e-6 lower z 0",
-                 "fix ncf/plate: mu must be >= 0, got -0.1"},
-        BadPlate{"kn 2e7 mu 0.3 diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: mu -0.1 must be >= 0"},
+        BadPlate{"kn 2e7 kt 0 mu 0.3 diameter 1 69e-6 lower z 0",
                  "fix ncf/plate: friction (mu 0.3) needs a tangential stiffness 'kt' > 0"},
         BadPlate{"kn 2e7 diameter 1 lower z 0",
                  "fix ncf/plate: value 'lower' of 'diameter' is not a number"},
@@ -281,6 +314,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "fix ncf/plate: 'upper': variable 'top' does not exist"},
         BadPlate{"kn 2e7 diameter 1 69e-6 upper v_zz",
                  "fix ncf/plate: 'upper': variable 'zz' is not equal-style"},
+        // kt is a ratio of kn, as in pair_coeff; a stiffness in Pa (the meaning it had here
+        // before) is refused, naming the change
+        BadPlate{"kn 2e7 kt 2e7 diameter 1 69e-6 lower z 0",
+                 "fix ncf/plate: kt 2e7 must be a ratio of kn in [0, 10]"},
+        BadPlate{"kn 2e7 kt -1 diameter 1 69e-6 lower z 0", "fix ncf/plate: kt -1 must be >= 0"},
+        BadPlate{"kn 2e7 kt", "fix ncf/plate: keyword 'kt' needs a value"},
         BadPlate{"kn 2e7 stiff 3 diameter 1 69e-6 lower z 0",
                  "fix ncf/plate: unknown keyword 'stiff'"}));
 

@@ -907,7 +907,7 @@ TEST(PairContact, ErrorsNameStyleKeywordAndValue)
   EXPECT_THAT(err("pair_style ncf/contact ramp 2", "pair_coeff * * kn 1e8 diameter 69e-6"),
               HasSubstr("ramp 2"));
   EXPECT_THAT(err("pair_style ncf/contact bogus 1", "pair_coeff * * kn 1e8 diameter 69e-6"),
-              HasSubstr("unknown keyword bogus"));
+              HasSubstr("unknown keyword 'bogus'"));
   EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn -1 diameter 69e-6"),
               HasSubstr("kn -1"));
   EXPECT_THAT(err("pair_style ncf/contact", "pair_coeff * * kn 1e8 mu -0.1 diameter 69e-6"),

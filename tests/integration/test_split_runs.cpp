@@ -331,7 +331,7 @@ TEST(SplitRuns, FixPlateMotionAndFriction)
   // upper plate pressing the top nodes by 10 um; with friction
   const double lift = 0.5 * 69e-6 - 9.5e-6 - zlo;
   const std::string plate = fmt::format(
-      "fix plate all ncf/plate kn 2e7 kt 1e7 mu 0.3 diameter 1 69e-6 lower move 0 1.0 upper z "
+      "fix plate all ncf/plate kn 2e7 kt 0.5 mu 0.3 diameter 1 69e-6 lower move 0 1.0 upper z "
       "{:.17g}",
       zhi + lift + 0.5 * 69e-6 - 10e-6);
   Scene s = mat_scene(mat, plate, fmt::format("displace_atoms all move 0 0 {:.17g}", lift));

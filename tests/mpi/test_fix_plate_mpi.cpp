@@ -15,7 +15,7 @@ TEST(FixPlateMPI, SameCompactionOn124Ranks)
 velocity all create 5e12 5 loop geom
 fix nve all nve
 fix damp all viscous 2e-7
-fix plate all ncf/plate kn 2e7 kt 2e7 mu 0.3 damp 10 diameter 1 69e-6 lower z 0 upper target 0.66e-3 0.4e-3 5
+fix plate all ncf/plate kn 2e7 kt 1.0 mu 0.3 damp 10 diameter 1 69e-6 lower z 0 upper target 0.66e-3 0.4e-3 5
 fix endsz ends setforce 0 0 NULL
 fix pbc ends ncf/pbc faces x
 timestep 1e-8
