@@ -10,29 +10,30 @@
 
 namespace NCF {
 
+// the contact keywords, their names and the coefficient each sets, once
+namespace {
+  const struct {
+    ContactKey key;
+    const char *name;
+    double ContactCoeffs::*member;
+  } KEYS[] = {{ContactKey::KN, "kn", &ContactCoeffs::kn},
+              {ContactKey::KT, "kt", &ContactCoeffs::kt},
+              {ContactKey::MU, "mu", &ContactCoeffs::mu},
+              {ContactKey::DAMP, "damp", &ContactCoeffs::damp}};
+}    // namespace
+
 ContactKey contact_key(const std::string &key)
 {
-  if (key == "kn") return ContactKey::KN;
-  if (key == "kt") return ContactKey::KT;
-  if (key == "mu") return ContactKey::MU;
-  if (key == "damp") return ContactKey::DAMP;
+  for (const auto &k : KEYS)
+    if (key == k.name) return k.key;
   return ContactKey::NONE;
 }
 
-const char *contact_key_name(ContactKey k)
+const char *contact_key_name(ContactKey key)
 {
-  switch (k) {
-    case ContactKey::KN:
-      return "kn";
-    case ContactKey::KT:
-      return "kt";
-    case ContactKey::MU:
-      return "mu";
-    case ContactKey::DAMP:
-      return "damp";
-    default:
-      return "?";
-  }
+  for (const auto &k : KEYS)
+    if (k.key == key) return k.name;
+  return "?";
 }
 
 std::string contact_value_error(ContactKey k, double v, const std::string &text)
@@ -47,35 +48,21 @@ std::string contact_value_error(ContactKey k, double v, const std::string &text)
   return "";
 }
 
-void set_contact_value(ContactCoeffs &c, ContactKey k, double v)
+void set_contact_value(ContactCoeffs &c, ContactKey key, double v)
 {
-  switch (k) {
-    case ContactKey::KN:
-      c.kn = v;
-      break;
-    case ContactKey::KT:
-      c.kt = v;
-      break;
-    case ContactKey::MU:
-      c.mu = v;
-      break;
-    case ContactKey::DAMP:
-      c.damp = v;
-      break;
-    default:
-      break;
-  }
+  for (const auto &k : KEYS)
+    if (k.key == key) c.*k.member = v;
 }
 
 const char *invalid_coeff(const ContactCoeffs &c, double *value)
 {
-  const double cf[4] = {c.kn, c.kt, c.mu, c.damp};
-  const char *name[4] = {"kn", "kt", "mu", "damp"};
-  for (int k = 0; k < 4; k++)
-    if (!std::isfinite(cf[k]) || (k == 0 ? !(cf[k] > 0.0) : !(cf[k] >= 0.0))) {
-      if (value) *value = cf[k];
-      return name[k];
+  for (const auto &k : KEYS) {
+    const double v = c.*k.member;
+    if (!std::isfinite(v) || (k.key == ContactKey::KN ? !(v > 0.0) : !(v >= 0.0))) {
+      if (value) *value = v;
+      return k.name;
     }
+  }
   return nullptr;
 }
 
