@@ -12,7 +12,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "output.h"
-#include "pair_ncf_contact.h"
+#include "pair.h"
 #include "update.h"
 
 #include <cstring>
@@ -56,14 +56,14 @@ int FixNCFContactHistory::setmask()
   return PRE_EXCHANGE | MIN_PRE_EXCHANGE | END_OF_STEP;
 }
 
-PairNCFContact *FixNCFContactHistory::pair() const
+NCFContactHistoryOwner *FixNCFContactHistory::owner() const
 {
-  return dynamic_cast<PairNCFContact *>(force->pair_match("ncf/contact", 1));
+  return dynamic_cast<NCFContactHistoryOwner *>(force->pair_match("ncf/contact", 1));
 }
 
 void FixNCFContactHistory::init()
 {
-  PairNCFContact *p = pair();
+  NCFContactHistoryOwner *p = owner();
   if (!p || !p->friction_active()) return;
   // the history must be in the per-atom store before any fix moves atoms between ranks in its
   // own pre_exchange (as for LAMMPS's fix neigh/history)
@@ -80,7 +80,7 @@ void FixNCFContactHistory::init()
 
 void FixNCFContactHistory::pre_exchange()
 {
-  if (PairNCFContact *p = pair()) p->sync_history();
+  if (NCFContactHistoryOwner *p = owner()) p->sync_history();
 }
 
 void FixNCFContactHistory::min_pre_exchange()

@@ -23,6 +23,20 @@ FixStyle(ncf/contact/history,FixNCFContactHistory);
 
 namespace LAMMPS_NS {
 
+// What the store asks of the pair style whose history it holds (pair ncf/contact implements it):
+// the store knows this interface only, not the pair
+class NCFContactHistoryOwner {
+ public:
+  // any contact with friction: the history is kept and stored
+  virtual bool friction_active() const = 0;
+  // write the friction history of the last step into the rows of the store
+  virtual void sync_history() = 0;
+
+ protected:
+  // (not deleted through this interface: the pair style is LAMMPS's to delete)
+  ~NCFContactHistoryOwner() = default;
+};
+
 class FixNCFContactHistory : public Fix {
  public:
   // the ID under which pair_style ncf/contact creates it
@@ -70,7 +84,8 @@ class FixNCFContactHistory : public Fix {
   int nslots;    // slots per row
   int nmax;      // rows allocated
   int grows;     // number of widenings (extract "grows", for tests and the log)
-  class PairNCFContact *pair() const;
+  // the pair style ncf/contact that owns the store (nullptr if there is none now)
+  NCFContactHistoryOwner *owner() const;
 };
 
 }    // namespace LAMMPS_NS

@@ -16,6 +16,9 @@ PairStyle(ncf/contact,PairNCFContact);
 
 #include "pair.h"
 
+#include "fix_ncf_contact_history.h"
+
+#include "ncf_box_grid.h"
 #include "ncf_contact.h"
 #include "ncf_contact_model.h"
 
@@ -24,7 +27,7 @@ PairStyle(ncf/contact,PairNCFContact);
 
 namespace LAMMPS_NS {
 
-class PairNCFContact : public Pair {
+class PairNCFContact : public Pair, public NCFContactHistoryOwner {
  public:
   // IDs of the fix property/atom stores created by the style
   static constexpr const char *TOPO_ID = "NCF_CONTACT_TOPO";    // chain neighbours (ghost yes)
@@ -60,10 +63,10 @@ class PairNCFContact : public Pair {
 
   // longest segment the neighbour and ghost cutoffs were sized for (after init)
   double max_segment_length() const { return lmax_used; }
-  bool friction_active() const { return use_history; }
+  bool friction_active() const override { return use_history; }
   // write the friction history of the last step into the per-atom store (fix
   // ncf/contact/history calls it before atoms migrate and at the end of a run)
-  void sync_history();
+  void sync_history() override;
   double critical_timestep() const { return dt_critical; }
 
  protected:
@@ -177,36 +180,10 @@ class PairNCFContact : public Pair {
   bigint lists_ncalls;
   int lists_nlocal, lists_nall;
 
-  // boxes (segments or nodes) binned by their centres, for the list build; the arrays are kept
-  // between builds (no allocation once they have grown). Entries sorted by bin, one array per
-  // quantity so that the inner loop of the build reads only what its tests need
-  struct BoxGrid {
-    int nb[3];                         // bins per direction
-    double lo[3], inv[3];              // lowest centre, 1 / bin size
-    double hmax[3];                    // largest half extent of the entries
-    std::vector<int> start;            // per bin: first entry (nbins + 1 values)
-    std::vector<double> cx, cy, cz;    // centre of the box
-    std::vector<double> hx, hy, hz;    // half extents (inflated, see build_lists)
-    std::vector<double> r;             // radius of the bounding sphere (inflated)
-    std::vector<tagint> t0, t1, t2;    // segment key (owner, partner); node and its neighbours
-    std::vector<int> i0, i1;           // segment owner and partner (-2 missing); node
-    // what the box test of the inner loop reads, one record per entry (half a cache line):
-    // centre relative to lo and half extents in single precision, and the segment key
-    struct Filter {
-      float c[3], h[3];
-      tagint k0, k1;
-    };
-    std::vector<Filter> fb;
-    float fslack;    // bound of the round-off of the single precision box test
-    void clear();
-    void add(const double *c, const double *h, double rad, tagint a, tagint b, tagint q, int j0,
-             int j1);
-    void cells(const double *lo_pos, const double *hi_pos, int *c0, int *c1) const;
-    template <class Keep> int scan(const double *c, const double *h, Keep keep, int *cand) const;
-  };
-  BoxGrid gseg, gext, gcap, gtmp;    // segments, segments extended at free ends, node caps
-  std::vector<int> gbin, gfill, gcand;
-  void bin_grid(BoxGrid &);
+  // boxes (segments or nodes) binned by their centres, for the list build (ncf_box_grid.h)
+  using BoxGrid = NCF::BoxGrid<tagint>;
+  BoxGrid gseg, gext, gcap;    // segments, segments extended at free ends, node caps
+  std::vector<int> gcand;
 
   void allocate();
   void build_lists();
@@ -235,6 +212,28 @@ class PairNCFContact : public Pair {
   int takeover_candidates(tagint a0, tagint a1, tagint b0, tagint b1, TakeOver *out) const;
   void exchange_row_needs();
   void other_partner(tagint node, tagint not_this, tagint &out) const;
+  // compute() in named steps on the state of one step (pair_ncf_contact_compute.cpp)
+  struct Step;
+  void refresh_lists(const Step &);
+  void load_rows(Step &);
+  void check_lengths(const Step &);
+  void begin_history(Step &);
+  int gather_pairs(const Step &, int &nnear);
+  void pairs_batched(Step &, int nwork, int nnear);
+  void set_lane_coefficients(int lane, const TypePair &);
+  void flush_lanes(Step &);
+  void deferred_takeovers(Step &);
+  void node_caps(Step &);
+  void map_virtual_forces(Step &);
+  void finish_outputs(Step &);
+  // the contact of one pair list entry by the scalar law: prepare, law, finish (pair_contact all
+  // three); true if deferred
+  bool scalar_prepare(const Step &, int e, bool &had) const;
+  NCF::SegmentContact scalar_law(const Step &, int e) const;
+  bool scalar_finish(Step &, int e, NCF::SegmentContact, bool had, bool may_defer);
+  bool pair_contact(Step &, int e, bool may_defer);
+  double *start_slip(const Step &, int e, bool had, bool may_defer);
+  double real_penetration(const Step &, const PairCand &) const;
   // per-atom energy and virial (and the global virial without fdotr) of one contact and of the
   // mapping of a virtual node's force onto its free end and neighbour (pair_ncf_contact_compute)
   void tally_contact(int n, const int *node, const double *const *xm, const double *fm,
