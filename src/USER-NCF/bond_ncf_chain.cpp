@@ -22,8 +22,8 @@
 #include "neighbor.h"
 #include "update.h"
 
-#include "ncf_args_lammps.h"
-#include "ncf_lammps_compat.h"
+#include "lammps_ncf_args.h"
+#include "lammps_ncf_compat.h"
 
 #include <cmath>
 #include <cstring>

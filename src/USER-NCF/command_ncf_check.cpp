@@ -15,7 +15,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "ncf_args_lammps.h"
+#include "lammps_ncf_args.h"
 
 #include <cctype>
 #include <cerrno>

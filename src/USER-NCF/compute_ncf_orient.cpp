@@ -13,7 +13,7 @@
 #include "memory.h"
 #include "update.h"
 
-#include "ncf_args_lammps.h"
+#include "lammps_ncf_args.h"
 
 #include "ncf_orient.h"
 

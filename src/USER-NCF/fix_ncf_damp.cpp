@@ -10,7 +10,7 @@
 #include "memory.h"
 #include "update.h"
 
-#include "ncf_args_lammps.h"
+#include "lammps_ncf_args.h"
 
 #include <mpi.h>
 

@@ -23,9 +23,9 @@
 #include "update.h"
 #include "variable.h"
 
-#include "ncf_args_lammps.h"
-#include "ncf_lammps_compat.h"
-#include "ncf_motion_lammps.h"
+#include "lammps_ncf_args.h"
+#include "lammps_ncf_compat.h"
+#include "lammps_ncf_motion.h"
 #include "ncf_needle.h"
 
 #include <algorithm>

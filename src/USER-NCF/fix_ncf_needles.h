@@ -15,7 +15,7 @@ FixStyle(ncf/needles,FixNCFNeedles);
 #define LMP_FIX_NCF_NEEDLES_H
 
 #include "fix.h"
-#include "ncf_clock_lammps.h"
+#include "lammps_ncf_clock.h"
 #include "ncf_motion.h"
 #include "ncf_needle.h"
 

@@ -29,8 +29,8 @@
 #include "output.h"
 #include "update.h"
 
-#include "ncf_args_lammps.h"
-#include "ncf_material.h"
+#include "lammps_ncf_args.h"
+#include "ncf_input_error.h"
 #include "ncf_pbc.h"
 
 #include <algorithm>

@@ -15,10 +15,10 @@
 #include "update.h"
 #include "variable.h"
 
-#include "ncf_args_lammps.h"
+#include "lammps_ncf_args.h"
+#include "lammps_ncf_compat.h"
+#include "lammps_ncf_motion.h"
 #include "ncf_contact.h"
-#include "ncf_lammps_compat.h"
-#include "ncf_motion_lammps.h"
 #include "ncf_wall.h"
 
 #include <cmath>
@@ -33,8 +33,7 @@ static constexpr int NTOT = 5;
 /* ---------------------------------------------------------------------- */
 
 FixNCFPlate::FixNCFPlate(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), slip(nullptr), use_history(0),
-    energy(0.0), dt_contact(0.0), idx_l0(-1)
+    Fix(lmp, narg, arg), slip(nullptr), use_history(0), energy(0.0), dt_contact(0.0), idx_l0(-1)
 {
   scalar_flag = 1;
   vector_flag = 1;
@@ -278,7 +277,8 @@ void FixNCFPlate::apply()
         continue;
       }
       const double l = tributary_length(i);
-      const auto c = NCF::plane_contact(x[i][2], radius, p.z, side, cc.kn, l, cc.damp, v[i][2] - p.vz);
+      const auto c =
+          NCF::plane_contact(x[i][2], radius, p.z, side, cc.kn, l, cc.damp, v[i][2] - p.vz);
       f[i][2] += side * c.force;
       local[k][0] += side * c.force;
       local[k][3] += 1.0;
@@ -288,7 +288,8 @@ void FixNCFPlate::apply()
         NCF::Vec3 slipv{s[0], s[1], s[2]};
         const NCF::Vec3 n{0.0, 0.0, (double) side};
         const NCF::Vec3 vrel{v[i][0], v[i][1], v[i][2] - p.vz};
-        const auto fr = NCF::friction_step(slipv, n, vrel, dt, cc.kt_stiffness() * l, c.force, cc.mu, advance);
+        const auto fr =
+            NCF::friction_step(slipv, n, vrel, dt, cc.kt_stiffness() * l, c.force, cc.mu, advance);
         if (advance) {
           s[0] = slipv.x;
           s[1] = slipv.y;

@@ -16,8 +16,8 @@ FixStyle(ncf/plate,FixNCFPlate);
 
 #include "fix.h"
 
+#include "lammps_ncf_clock.h"
 #include "ncf_contact_model.h"
-#include "ncf_clock_lammps.h"
 #include "ncf_motion.h"
 
 #include <string>
@@ -58,7 +58,7 @@ class FixNCFPlate : public Fix {
     int ivar = -1;
     double z = 0.0, vz = 0.0;    // current position and velocity
   };
-  Plate plate[2];    // 0: lower (normal +z), 1: upper (normal -z)
+  Plate plate[2];                  // 0: lower (normal +z), 1: upper (normal -z)
   NCF::ContactCoeffs cc;           // the plates' contact with the chains (ncf_contact_model.h)
   std::vector<double> diameter;    // per atom type, 0 = none (given, or pair ncf/contact's)
   NCF_LMP::ToolClock clock;        // time of the motion since the fix definition

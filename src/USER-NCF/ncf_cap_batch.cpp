@@ -21,8 +21,8 @@
    and are left to node_contact, which is the reference this code is tested against.
 ------------------------------------------------------------------------- */
 
-#include "ncf_batch_rerun.h"
-#include "ncf_cap_piece.h"
+#include "ncf_batch_second_pass.h"
+#include "ncf_cap_integral_piece.h"
 #include "ncf_contact.h"
 
 #include <cmath>

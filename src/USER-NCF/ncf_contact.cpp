@@ -4,7 +4,7 @@
 
 #include "ncf_contact.h"
 
-#include "ncf_cap_piece.h"
+#include "ncf_cap_integral_piece.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
    code is tested against.
 ------------------------------------------------------------------------- */
 
-#include "ncf_batch_rerun.h"
+#include "ncf_batch_second_pass.h"
 #include "ncf_contact.h"
 
 #include <cmath>

@@ -4,7 +4,7 @@
    has in every style (pair ncf/contact, fix ncf/plate, fix ncf/needles), their checks, the
    per-type-pair table of the pair style with its mixing rule, and the table's restart layout.
    The contact laws themselves are in ncf_contact.h, ncf_wall.h and ncf_needle.h. No LAMMPS
-   dependency; the styles read the keywords through NCF_LMP::read_contact (ncf_args_lammps.h).
+   dependency; the styles read the keywords through NCF_LMP::read_contact (lammps_ncf_args.h).
 ------------------------------------------------------------------------- */
 
 #ifndef NCF_CONTACT_MODEL_H

@@ -7,17 +7,12 @@
 #ifndef NCF_MATERIAL_H
 #define NCF_MATERIAL_H
 
+#include "ncf_input_error.h"
+
 #include <map>
-#include <stdexcept>
 #include <string>
 
 namespace NCF {
-
-// Error in user input (file name and line number in the message).
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Packing coefficient of circular fibres in hexagonal packing, pi / (2 sqrt 3).
 constexpr double HEXAGONAL_PACKING = 0.90689968211710892;

@@ -4,7 +4,7 @@
 
 #include "ncf_pbc.h"
 
-#include "ncf_material.h"    // InputError
+#include "ncf_input_error.h"
 
 #include <algorithm>
 #include <cmath>

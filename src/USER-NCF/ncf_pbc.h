@@ -40,7 +40,7 @@ FaceMesh auto_face_mesh(const std::vector<FaceNode> &nodes, double lu);
 // into the nearest group (cell-centre distance, periodic in u; ties to the lower index) until
 // every group has nodes on both faces. Returns the group index (0..ngroups-1, in order of first
 // cell) of every node. Deterministic: same input, same groups, on every rank.
-// Throws NCF::InputError (ncf_material.h) if one face has no node at all.
+// Throws NCF::InputError (ncf_input_error.h) if one face has no node at all.
 std::vector<int> face_groups(const FaceMesh &mesh, const std::vector<FaceNode> &nodes,
                              int &ngroups);
 

@@ -20,9 +20,10 @@
 
    The style in four files:
    pair_ncf_contact.cpp          arguments, coefficients, init, stores, restart, extract (this)
-   pair_ncf_contact_list.cpp     candidate lists: segments, box grids, build_lists
+   pair_ncf_contact_list.cpp     candidate lists: segments, build_lists (binning: ncf_box_grid.h)
    pair_ncf_contact_history.cpp  friction history: take-overs, load/store, its communication
-   pair_ncf_contact_compute.cpp  compute(): batches of the contact law, caps, free ends, outputs
+   pair_ncf_contact_compute.cpp  compute() as named steps: batches of the contact law, caps, free
+                                 ends, outputs
 ------------------------------------------------------------------------- */
 
 #include "pair_ncf_contact.h"
@@ -41,9 +42,9 @@
 #include "update.h"
 #include "utils.h"
 
-#include "ncf_args_lammps.h"
+#include "lammps_ncf_args.h"
+#include "lammps_ncf_compat.h"
 #include "ncf_contact.h"
-#include "ncf_lammps_compat.h"
 
 #include <algorithm>
 #include <cmath>
@@ -557,9 +558,8 @@ void PairNCFContact::init_style()
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) {
       // (mixed values as init_one mixes them)
-      const NCF::ContactCoeffs c = table.given(i, j)
-          ? table.coeffs(i, j)
-          : NCF::mix(table.coeffs(i, i), table.coeffs(j, j));
+      const NCF::ContactCoeffs c =
+          table.given(i, j) ? table.coeffs(i, j) : NCF::mix(table.coeffs(i, i), table.coeffs(j, j));
       const double m = c.mu, g = c.damp;
       if (m > 0.0) use_history = true;
       if (m > 0.0 || g > 0.0) use_velocity = true;
@@ -635,8 +635,8 @@ void PairNCFContact::init_style()
 double PairNCFContact::init_one(int i, int j)
 {
   if (!table.resolve(i, j))
-    error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable",
-               i, j);
+    error->all(FLERR, "pair ncf/contact: coefficients for types {} {} neither given nor mixable", i,
+               j);
   // the coefficients as the run will use them: pair_coeff checks what it reads, but fix adapt
   // changes kn, mu, damp and diameter at run time (and calls init_one again, through reinit)
   const NCF::ContactCoeffs c = table.coeffs(i, j);

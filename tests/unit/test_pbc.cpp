@@ -1,6 +1,6 @@
 // Unit tests of the averaged periodic boundary algebra (ncf_pbc.h).
 
-#include "ncf_material.h"
+#include "ncf_input_error.h"
 #include "ncf_pbc.h"
 
 #include <gtest/gtest.h>

@@ -10,8 +10,8 @@
    (reset_timestep) or the time step changed.
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_CLOCK_LAMMPS_H
-#define NCF_CLOCK_LAMMPS_H
+#ifndef LAMMPS_NCF_CLOCK_H
+#define LAMMPS_NCF_CLOCK_H
 
 #include "lmptype.h"
 #include "update.h"

@@ -15,11 +15,13 @@ copy of it is kept under <build>/mutation-audit/backup while it is mutated, whic
 of the script puts back first if a previous run was killed outright.
 
 Usage (from anywhere; nice it, it takes a while):
-  nice -n 15 /usr/bin/python3 tools/mutation_audit.py [--build DIR] [-j N] [--only ID,ID]
-                                                      [--list] [--baseline] [--timeout S]
+  nice -n 15 /usr/bin/python3 tests/mutation_audit.py [--build DIR] [-j N] [--only ID,ID]
+                                                      [--list] [--check] [--baseline] [--timeout S]
   --build     the build folder (default $NCF_BUILD, else ./build); configured by tools/setup.sh
   --only      run these mutations only (ids, comma separated)
   --list      print the mutations and exit
+  --check     check that every mutation applies (its original text occurs exactly once) and exit;
+              a test of the suite (unit.mutation_audit_applies), so that the audit follows the code
   --baseline  first run all the regexes without a mutation (they must pass)
   --timeout   seconds one test may run under a mutation (default 300; a hang counts as killed,
               as the test's own ctest TIMEOUT would fail it)
@@ -131,8 +133,8 @@ mut("pbc-allreduce", "fix_ncf_pbc.cpp",
 
 # ---------------------------------------------------------------- fix ncf/plate, motion, clock
 mut("plate-velocity-sign", "fix_ncf_plate.cpp",
-    "NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] - p.vz);",
-    "NCF::plane_contact(x[i][2], radius, p.z, side, kn, l, damp, v[i][2] + p.vz);", PLATE,
+    "NCF::plane_contact(x[i][2], radius, p.z, side, cc.kn, l, cc.damp, v[i][2] - p.vz);",
+    "NCF::plane_contact(x[i][2], radius, p.z, side, cc.kn, l, cc.damp, v[i][2] + p.vz);", PLATE,
     "dashpot with the plate's velocity added instead of subtracted")
 mut("motion-target-direction", "ncf_motion.h", "        v = dir * speed;", "        v = speed;",
     PLATE + "|" + NEEDLE, "target motion: the velocity without the direction")
@@ -147,11 +149,11 @@ mut("plate-restart-clock", "fix_ncf_plate.cpp", "    clock.unpack(&buf[11]);\n",
 mut("plate-penmax-reduce", "fix_ncf_plate.cpp", "MPI_Allreduce(pen, penall, 2, MPI_DOUBLE, MPI_MAX, world);",
     "MPI_Allreduce(pen, penall, 2, MPI_DOUBLE, MPI_SUM, world);", PLATE,
     "largest penetration summed over the ranks")
-mut("clock-off-by-one", "ncf_clock_lammps.h",
+mut("clock-off-by-one", "lammps_ncf_clock.h",
     "const double t = base + (double) (u->ntimestep - step_base) * u->dt;",
     "const double t = base + (double) (u->ntimestep - step_base + 1) * u->dt;", PLATE + "|" + NEEDLE,
     "tool clock one step ahead")
-mut("clock-pack-step", "ncf_clock_lammps.h", "    buf[2] = (double) step_base;\n",
+mut("clock-pack-step", "lammps_ncf_clock.h", "    buf[2] = (double) step_base;\n",
     "    buf[2] = 0.0;\n", PLATE + "|" + NEEDLE, "restart: the clock's base step not written")
 
 # ---------------------------------------------------------------- fix ncf/needles
@@ -205,8 +207,8 @@ mut("list-image", "pair_ncf_contact_list.cpp", "int q = (m < 0) ? -2 : domain->c
 mut("list-skin", "pair_ncf_contact_list.cpp", "if (gap >= grow * skin) return;",
     "if (gap >= grow * 0.5 * skin) return;", CONTACT, "pairs that can close within the skin dropped")
 mut("endcap-length", "pair_ncf_contact_list.cpp",
-    "if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * diameter[type[k]];",
-    "if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = 0.5 * endcap_frac * diameter[type[k]];",
+    "if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * table.diameter(type[k]);",
+    "if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = 0.5 * endcap_frac * table.diameter(type[k]);",
     CONTACT, "end caps half as long as the setting")
 mut("virtual-reaction", "pair_ncf_contact_compute.cpp", "        fj[d] -= g[d];\n", "        fj[d] += g[d];\n",
     CONTACT, "end-cap force mapped onto the neighbour with the wrong sign")
@@ -215,9 +217,10 @@ mut("fatom-reverse-comm", "pair_ncf_contact_compute.cpp",
     "per-atom contact force of ghosts not sent back to the owners")
 mut("fatom-unpack", "pair_ncf_contact_compute.cpp", "    fcon[3 * j] += buf[m++];\n",
     "    fcon[3 * j] = buf[m++];\n", CONTACT, "per-atom contact force from ghosts overwrites (x)")
-mut("mix-kn", "pair_ncf_contact.cpp", "kn[i][j] = 2.0 * kn[i][i] * kn[j][j] / (kn[i][i] + kn[j][j]);",
-    "kn[i][j] = 0.5 * (kn[i][i] + kn[j][j]);", CONTACT, "mixed kn: arithmetic mean, not in series")
-mut("kt-ratio", "pair_ncf_contact.cpp", "tpij.kt = ktr[i][j] * kn[i][j];", "tpij.kt = ktr[i][j];", CONTACT,
+mut("mix-kn", "ncf_contact_model.cpp", "c.kn = 2.0 * ii.kn * jj.kn / (ii.kn + jj.kn);",
+    "c.kn = 0.5 * (ii.kn + jj.kn);", CONTACT, "mixed kn: arithmetic mean, not in series")
+mut("kt-ratio", "ncf_contact_model.h", "double kt_stiffness() const { return kt * kn; }",
+    "double kt_stiffness() const { return kt; }", CONTACT,
     "kt taken as a stiffness, not as a ratio of kn")
 mut("ghost-shell-history", "pair_ncf_contact.cpp", "(use_history ? 3.0 : 2.0) * lmax_used;",
     "(use_history ? 2.0 : 2.0) * lmax_used;", CONTACT, "ghost shell without the take-over lmax")
@@ -228,8 +231,8 @@ mut("skin-check", "pair_ncf_contact_compute.cpp",
     "if (dmove2 > 1.0 * neighbor->skin * neighbor->skin * (1.0 + 1e-9))", CONTACT,
     "moves up to the full skin allowed between list builds")
 mut("tangential-setup-advance", "pair_ncf_contact_compute.cpp",
-    "espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, dt, advance);",
-    "espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, dt, true);", CONTACT,
+    "espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, s.dt, s.advance);",
+    "espring = NCF::contact_tangential(c, vel, sv, tp.kt, tp.mu, tp.damp, s.dt, true);", CONTACT,
     "friction history advanced in a run's setup")
 mut("history-takeover", "pair_ncf_contact_history.cpp",
     "  if (p) cand[nc][0] = A, cand[nc++][1] = make_key(b1, p);\n", "", CONTACT,
@@ -244,7 +247,7 @@ mut("history-rows-needed", "pair_ncf_contact_history.cpp",
 mut("history-rows-owner", "pair_ncf_contact_history.cpp", "  comm->reverse_comm(this, 1);\n", "",
     CONTACT, "the flags of the history rows a take-over needs not summed onto their owners")
 mut("history-exchange", "fix_ncf_contact_history.cpp",
-    "  if (PairNCFContact *p = pair()) p->sync_history();\n", "", CONTACT,
+    "  if (NCFContactHistoryOwner *p = owner()) p->sync_history();\n", "", CONTACT,
     "friction history not written to the per-atom store before atoms migrate")
 mut("history-restart-step", "fix_ncf_contact_history.cpp",
     "if (update->ntimestep == output->next_restart) pre_exchange();",
@@ -392,6 +395,7 @@ def main():
     ap.add_argument("-j", type=int, default=2)
     ap.add_argument("--only", default="")
     ap.add_argument("--list", action="store_true")
+    ap.add_argument("--check", action="store_true")
     ap.add_argument("--baseline", action="store_true")
     ap.add_argument("--timeout", type=int, default=300,
                     help="seconds one test may run under a mutation (a hang counts as killed)")
@@ -410,6 +414,22 @@ def main():
         print(f"{len(chosen)} mutations")
         return 0
 
+    # every mutation must apply to exactly one place before anything starts
+    stale = []
+    for m in chosen:
+        path = os.path.join(ROOT, m["path"])
+        n = 0
+        if os.path.isfile(path):
+            with open(path) as f:
+                n = f.read().count(m["old"])
+        if n != 1:
+            stale.append(f"mutation {m['id']}: the original text occurs {n} times in {m['path']}")
+    if stale:
+        sys.exit("\n".join(stale))
+    if args.check:
+        print(f"{len(chosen)} mutations, each applies to exactly one place")
+        return 0
+
     build = os.path.abspath(args.build)
     if not os.path.isfile(os.path.join(build, "CTestTestfile.cmake")):
         sys.exit(f"{build} is not a configured build folder (run tools/setup.sh)")
@@ -417,13 +437,6 @@ def main():
     backup_root = os.path.join(work, "backup")
     restore_leftovers(backup_root)
     os.makedirs(work, exist_ok=True)
-
-    # every mutation must apply to exactly one place before anything starts
-    for m in chosen:
-        with open(os.path.join(ROOT, m["path"])) as f:
-            n = f.read().count(m["old"])
-        if n != 1:
-            sys.exit(f"mutation {m['id']}: the original text occurs {n} times in {m['path']}")
 
     # SIGTERM like Ctrl-C: the finally blocks put the files back
     def on_term(signum, frame):

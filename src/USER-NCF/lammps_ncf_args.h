@@ -8,8 +8,8 @@
    generic one of LAMMPS ("Expected floating point parameter ...") without the keyword.
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_ARGS_LAMMPS_H
-#define NCF_ARGS_LAMMPS_H
+#ifndef LAMMPS_NCF_ARGS_H
+#define LAMMPS_NCF_ARGS_H
 
 #include "atom.h"
 #include "domain.h"
@@ -169,8 +169,7 @@ inline void need_values(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const s
                         int iarg, int narg, int n, const char *values = nullptr)
 {
   if (iarg + n < narg) return;
-  if (values)
-    lmp->error->all(FLERR, "{}: keyword '{}' needs {}", what, key, values);
+  if (values) lmp->error->all(FLERR, "{}: keyword '{}' needs {}", what, key, values);
   lmp->error->all(FLERR, "{}: keyword '{}' needs a value", what, key);
 }
 
@@ -182,8 +181,7 @@ class ContactReader {
  public:
   ContactReader(LAMMPS_NS::LAMMPS *lmp, const std::string &what,
                 std::vector<NCF::ContactKey> allowed = {NCF::ContactKey::KN, NCF::ContactKey::KT,
-                                                        NCF::ContactKey::MU,
-                                                        NCF::ContactKey::DAMP},
+                                                        NCF::ContactKey::MU, NCF::ContactKey::DAMP},
                 std::vector<std::string> repeatable = {}) :
       lmp(lmp),
       what(what), allowed(std::move(allowed)), once(lmp, what, std::move(repeatable))
@@ -204,7 +202,8 @@ class ContactReader {
     for (auto a : allowed) ok |= a == k;
     if (!ok) {
       std::string list;
-      for (auto a : allowed) list += std::string(list.empty() ? "" : ", ") + NCF::contact_key_name(a);
+      for (auto a : allowed)
+        list += std::string(list.empty() ? "" : ", ") + NCF::contact_key_name(a);
       lmp->error->all(FLERR, "{}: contact keyword '{}' is not one of this style's ({})", what, key,
                       list);
     }

@@ -6,8 +6,8 @@
    puts back. Internal to ncf_contact_batch.cpp and ncf_cap_batch.cpp; no LAMMPS dependency.
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_BATCH_RERUN_H
-#define NCF_BATCH_RERUN_H
+#ifndef NCF_BATCH_SECOND_PASS_H
+#define NCF_BATCH_SECOND_PASS_H
 
 namespace NCF {
 

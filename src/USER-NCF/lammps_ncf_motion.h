@@ -6,8 +6,8 @@
      z Z | move Z0 V | target Z0 ZT V | v_NAME
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_MOTION_LAMMPS_H
-#define NCF_MOTION_LAMMPS_H
+#ifndef LAMMPS_NCF_MOTION_H
+#define LAMMPS_NCF_MOTION_H
 
 #include "error.h"
 #include "input.h"

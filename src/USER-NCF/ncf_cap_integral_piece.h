@@ -5,8 +5,8 @@
    ncf_cap_batch.cpp; no LAMMPS dependency.
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_CAP_PIECE_H
-#define NCF_CAP_PIECE_H
+#ifndef NCF_CAP_INTEGRAL_PIECE_H
+#define NCF_CAP_INTEGRAL_PIECE_H
 
 namespace NCF {
 

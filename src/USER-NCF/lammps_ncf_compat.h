@@ -23,8 +23,8 @@
      Nothing in the plugin refers to it.
 ------------------------------------------------------------------------- */
 
-#ifndef NCF_LAMMPS_COMPAT_H
-#define NCF_LAMMPS_COMPAT_H
+#ifndef LAMMPS_NCF_COMPAT_H
+#define LAMMPS_NCF_COMPAT_H
 
 #include "fmt/format.h"
 
@@ -50,13 +50,15 @@ inline void print(FILE *fp, const std::string &format, const Args &...args)
 
 namespace detail {
   // true where Domain::minimum_image takes the caller's file and line first (4 Jul 2026)
-  template <typename D, typename = void> struct minimum_image_takes_flerr : std::false_type {};
+  template <typename D, typename = void> struct minimum_image_takes_flerr : std::false_type {
+  };
   template <typename D>
   struct minimum_image_takes_flerr<
       D,
       std::void_t<decltype(std::declval<const D &>().minimum_image(
           std::declval<const std::string &>(), 0, std::declval<double &>(),
-          std::declval<double &>(), std::declval<double &>()))>> : std::true_type {};
+          std::declval<double &>(), std::declval<double &>()))>> : std::true_type {
+  };
 }    // namespace detail
 
 // domain->minimum_image(dx, dy, dz) in every version; call as
