@@ -84,8 +84,7 @@ void BondNCFChain::settings(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     if (key == "dtcheck") {
-      if (iarg + 1 >= narg)
-        error->all(FLERR, "bond_style ncf/chain: keyword 'dtcheck' needs a value");
+      NCF_LMP::need_values(lmp, "bond_style ncf/chain", key, iarg, narg, 1);
       const std::string val = arg[iarg + 1];
       if (val == "error")
         dtcheck = DT_ERROR;
@@ -128,8 +127,7 @@ void BondNCFChain::coeff(int narg, char **arg)
     if (key != "ea" && key != "modulus" && key != "diameter" && key != "shrink" &&
         key != "compression")
       error->all(FLERR, "bond_coeff ncf/chain: unknown keyword '{}'", key);
-    if (iarg + 1 >= narg)
-      error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' needs a value", key);
+    NCF_LMP::need_values(lmp, what, key, iarg, narg, 1);
     for (const auto &g : given)
       if (g == key) error->all(FLERR, "bond_coeff ncf/chain: keyword '{}' given twice", key);
     given.push_back(key);

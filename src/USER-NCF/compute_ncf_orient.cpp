@@ -40,8 +40,7 @@ ComputeNCFOrient::ComputeNCFOrient(LAMMPS *lmp, int narg, char **arg) :
     const std::string key = arg[iarg];
     once(key);
     if (key == "layer") {
-      if (iarg + 2 >= narg)
-        error->all(FLERR, "compute ncf/orient: keyword 'layer' needs a layer index and its angle");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 2, "a layer index and its angle");
       if (!utils::is_integer(arg[iarg + 1]))
         error->all(FLERR, "compute ncf/orient: layer index '{}' is not an integer", arg[iarg + 1]);
       const int l = (int) NCF_LMP::integer(lmp, W, key, arg[iarg + 1], INT_MIN, INT_MAX);
@@ -52,7 +51,7 @@ ComputeNCFOrient::ComputeNCFOrient(LAMMPS *lmp, int narg, char **arg) :
       nominal.push_back(NCF_LMP::number(lmp, W, "layer", arg[iarg + 2]));
       iarg += 3;
     } else if (key == "bins") {
-      if (iarg + 1 >= narg) error->all(FLERR, "compute ncf/orient: keyword 'bins' needs a value");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
       if (!utils::is_integer(arg[iarg + 1]))
         error->all(FLERR, "compute ncf/orient: value '{}' of 'bins' is not an integer",
                    arg[iarg + 1]);
@@ -62,14 +61,13 @@ ComputeNCFOrient::ComputeNCFOrient(LAMMPS *lmp, int narg, char **arg) :
       nbins = (int) nb;
       iarg += 2;
     } else if (key == "range") {
-      if (iarg + 1 >= narg) error->all(FLERR, "compute ncf/orient: keyword 'range' needs a value");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
       range = NCF_LMP::number(lmp, W, key, arg[iarg + 1]);
       if (!(range > 0.0 && range <= 90.0))
         error->all(FLERR, "compute ncf/orient: range {} must be in (0, 90] degrees", range);
       iarg += 2;
     } else if (key == "property") {
-      if (iarg + 1 >= narg)
-        error->all(FLERR, "compute ncf/orient: keyword 'property' needs a value");
+      NCF_LMP::need_values(lmp, W, key, iarg, narg, 1);
       const std::string v = arg[iarg + 1];
       if (!utils::strmatch(v, "^i_"))
         error->all(FLERR, "compute ncf/orient: property '{}' must be a per-atom integer i_NAME", v);

@@ -189,8 +189,7 @@ void FixNCFPBC::parse(int narg, char **arg)
     const std::string key = arg[iarg];
     once(key);
     auto need = [&](int n) {
-      if (iarg + n >= narg)
-        error->all(FLERR, "fix ncf/pbc: keyword '{}' needs {} value(s)", key, n);
+      NCF_LMP::need_values(lmp, "fix ncf/pbc", key, iarg, narg, n);
     };
     if (key == "faces") {
       need(1);

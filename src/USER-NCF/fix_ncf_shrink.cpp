@@ -41,8 +41,7 @@ FixNCFShrink::FixNCFShrink(LAMMPS *lmp, int narg, char **arg) :
 
   int iarg = 3;
   auto need = [&](int n, const std::string &key) {
-    if (iarg + n >= narg)
-      error->all(FLERR, "fix ncf/shrink: keyword '{}' needs {} value(s)", key, n);
+    NCF_LMP::need_values(lmp, "fix ncf/shrink", key, iarg, narg, n);
   };
   auto number = [&](int k, const std::string &key) {
     return NCF_LMP::number(lmp, "fix ncf/shrink", key, arg[iarg + k]);

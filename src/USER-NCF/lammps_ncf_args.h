@@ -170,6 +170,7 @@ inline void need_values(LAMMPS_NS::LAMMPS *lmp, const std::string &what, const s
 {
   if (iarg + n < narg) return;
   if (values) lmp->error->all(FLERR, "{}: keyword '{}' needs {}", what, key, values);
+  if (n > 1) lmp->error->all(FLERR, "{}: keyword '{}' needs {} values", what, key, n);
   lmp->error->all(FLERR, "{}: keyword '{}' needs a value", what, key);
 }
 

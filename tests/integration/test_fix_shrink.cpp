@@ -133,7 +133,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadShrink{"btype 2 strain 1.2 steps 10", "fix ncf/shrink: strain 1.2 must be in [0, 1)"},
         BadShrink{"btype 2 thermal 1e-4 1000 steps 10", "fix ncf/shrink: thermal load alpha 0.0001 x dT 1000 gives a shrink -0.1"},
         BadShrink{"btype 2 thermal 1e-4 steps 10", "fix ncf/shrink: value 'steps' of 'thermal' is not a number"},
-        BadShrink{"btype 2 thermal 1e-4", "fix ncf/shrink: keyword 'thermal' needs 2 value(s)"},
+        BadShrink{"btype 2 thermal 1e-4", "fix ncf/shrink: keyword 'thermal' needs 2 values"},
         BadShrink{"btype 2 strain 0.1 steps 0", "fix ncf/shrink: steps 0 must be >= 1"},
         BadShrink{"btype 2 strain 0.1 steps 10 ramp smooth", "fix ncf/shrink: ramp 'smooth' is not one of cosine, linear"},
         BadShrink{"btype 2 strain 0.1 steps 10 speed 3", "fix ncf/shrink: unknown keyword 'speed'"}));
