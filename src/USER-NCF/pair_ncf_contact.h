@@ -186,7 +186,22 @@ class PairNCFContact : public Pair, public NCFContactHistoryOwner {
   std::vector<int> gcand;
 
   void allocate();
+  // the candidate lists in steps (pair_ncf_contact_list.cpp), with the bounds of one build
+  struct ListBounds {
+    double skin;         // LAMMPS's neighbour skin
+    double slack;        // round-off slack of the bounds
+    double hm;           // half of the largest reach + skin, plus the slack
+    double gap_slack;    // what the gap of a list entry is rounded down by
+    double hcap;         // half width of a node cap's box
+  };
   void build_lists();
+  ListBounds prepare_build();
+  void fill_grids(const ListBounds &);
+  void search_owned_segments(const ListBounds &);
+  void consider_pair(const ListBounds &, int ao, int ia, int bo, int jb);
+  void search_caps(const ListBounds &, int ao, int ia, const double *ca, const double *exa);
+  void mark_used_ghosts();
+  void make_virtual_ends();
   void load_history();
   void store_history(int, bool only_needed = false);
   void create_stores();

@@ -110,12 +110,29 @@ void PairNCFContact::set_segments()
 
 void PairNCFContact::build_lists()
 {
+  const ListBounds lb = prepare_build();
+  plist.clear();
+  clist.clear();
+  fill_grids(lb);
+  search_owned_segments(lb);
+  if (use_history) load_history();
+  mark_used_ghosts();
+  make_virtual_ends();
+}
+
+/* ----------------------------------------------------------------------
+   the segments and free-end extensions of every local and ghost node, the positions at the
+   build, the longest owned segment, and the bounds of the search (with a slack for the round-off
+   relative to the reach and to the coordinates that the distances are computed from)
+------------------------------------------------------------------------- */
+
+PairNCFContact::ListBounds PairNCFContact::prepare_build()
+{
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   double **x = atom->x;
   const int *type = atom->type;
   const tagint *tag = atom->tag;
-  const double skin = neighbor->skin;
   double **cnb = atom->darray[idx_cnb];
 
   set_segments();
@@ -123,8 +140,6 @@ void PairNCFContact::build_lists()
   endext.assign(nall, 0.0);
   for (int k = 0; k < nall; k++)
     if (cnb[k][0] != 0.0 && cnb[k][1] == 0.0) endext[k] = endcap_frac * table.diameter(type[k]);
-  plist.clear();
-  clist.clear();
   xbuild.resize(3 * (size_t) nall);
   double xabs = 0.0;
   for (int k = 0; k < nall; k++)
@@ -144,68 +159,86 @@ void PairNCFContact::build_lists()
       if (p >= 0) lseg_build = std::max(lseg_build, NCF::norm(Vec3(x[p]) - Vec3(x[i])));
     }
 
+  ListBounds lb;
+  lb.skin = neighbor->skin;
   // largest reach + skin of a segment pair (without the extensions at free ends)
-  const double margin = reach_max + skin;
-  // slack for the round-off of the bounds (relative to the reach, and to the coordinates that
-  // the distances are computed from)
-  const double slack = 1e-9 * margin + 1e-12 * xabs;
-  const double hm = 0.5 * margin + slack;
-  // (the gap of a pair list entry is rounded down by this much)
-  const double gap_slack = 1e-9 * reach_max + 1e-12 * xabs;
+  const double margin = reach_max + lb.skin;
+  lb.slack = 1e-9 * margin + 1e-12 * xabs;
+  lb.hm = 0.5 * margin + lb.slack;
+  lb.gap_slack = 1e-9 * reach_max + 1e-12 * xabs;
+  lb.hcap = (diam_max + lb.skin) * (1.0 + 1e-9) + lb.slack;
+  return lb;
+}
 
-  // segment pair (A = ao-ia with ao owned, B = bo-jb), key(A) < key(B) checked by the caller:
-  // kept if the two segments are within reach + skin
-  auto add_pair = [&](int ao, int ia, int bo, int jb) {
-    const double lim = reachf[type[ao]][type[bo]] + skin;
-    if (jb == -2) {
-      // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the
-      // sub-domain), so no point of B is within reach + skin of A (A reaches at most lmax beyond
-      // the sub-domain, B is at most lmax long). An error if B's own end node is that close:
-      // then the shell is too short for this pair.
-      const NCF::ClosestPoints cp =
-          NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[bo]));
-      if (cp.dist2 < lim * lim)
-        error->one(FLERR,
-                   "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
-                   "present on this rank; communication cutoff too short",
-                   tag[bo], tag[ao]);
-      return;
-    }
-    const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
-    if (share_node(A, B)) return;
-    // the law (both ways, NCF::chain_contact) is zero while A, extended at free chain ends,
-    // stays D away from B, extended there and by the ramp half-width e beyond both nodes, and B
-    // likewise from A extended by e (NCF::segment_contact_possible both ways): the entry keeps
-    // the gap of the way that can close first, as gap / growth (a bound of how fast it closes)
-    const TypePair &tp = tpar[type_pair(type[ao], type[bo])];
-    const Vec3 ra0(x[ao]), ra1(x[ia]), rb0(x[bo]), rb1(x[jb]);
-    const double la = NCF::norm(ra1 - ra0), lb = NCF::norm(rb1 - rb0);
-    const double ema = MAX(endext[ao], endext[ia]), emb = MAX(endext[bo], endext[jb]);
-    auto gap_of = [&](double ra, double rb) {
-      Vec3 pa0 = ra0, pa1 = ra1, pb0 = rb0, pb1 = rb1;
-      NCF::extend_segment(pa0, pa1, endext[ao] + ra, endext[ia] + ra);
-      NCF::extend_segment(pb0, pb1, endext[bo] + rb, endext[jb] + rb);
-      return std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - gap_slack;
-    };
-    const double gap_ab = gap_of(0.0, tp.ramp), grow_ab = gap_growth(la, ema, lb, emb + tp.ramp);
-    // (the one-way law, pair_style law oneway, only A against B)
-    const double gap_ba = oneway ? 0.0 : gap_of(tp.ramp, 0.0);
-    const double grow_ba = gap_growth(la, ema + tp.ramp, lb, emb);
-    const bool ab_first = oneway || gap_ab / grow_ab <= gap_ba / grow_ba;
-    const double gap = ab_first ? gap_ab : gap_ba, grow = ab_first ? grow_ab : grow_ba;
-    // no node moves more than skin / 2 before the next build (checked in compute)
-    if (gap >= grow * skin) return;
-    const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 ||
-        endext[jb] != 0.0;
-    plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
-                     entry_reach(gap, grow)});
+/* ----------------------------------------------------------------------
+   segment pair (A = ao-ia with ao owned, B = bo-jb), key(A) < key(B) checked by the caller: kept
+   if the two segments are within reach + skin
+------------------------------------------------------------------------- */
+
+void PairNCFContact::consider_pair(const ListBounds &lb, int ao, int ia, int bo, int jb)
+{
+  double **x = atom->x;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const double skin = lb.skin;
+  const double lim = reachf[type[ao]][type[bo]] + skin;
+  if (jb == -2) {
+    // B's partner node lies beyond the ghost shell (2 lmax + reach + skin around the sub-domain),
+    // so no point of B is within reach + skin of A (A reaches at most lmax beyond the
+    // sub-domain, B is at most lmax long). An error if B's own end node is that close: then the
+    // shell is too short for this pair.
+    const NCF::ClosestPoints cp =
+        NCF::closest_points_segments(Vec3(x[ao]), Vec3(x[ia]), Vec3(x[bo]), Vec3(x[bo]));
+    if (cp.dist2 < lim * lim)
+      error->one(FLERR,
+                 "pair ncf/contact: partner node of segment owner {} (neighbour of {}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[bo], tag[ao]);
+    return;
+  }
+  const SegKey A{tag[ao], tag[ia]}, B{tag[bo], tag[jb]};
+  if (share_node(A, B)) return;
+  // the law (both ways, NCF::chain_contact) is zero while A, extended at free chain ends, stays D
+  // away from B, extended there and by the ramp half-width e beyond both nodes, and B likewise
+  // from A extended by e (NCF::segment_contact_possible both ways): the entry keeps the gap of
+  // the way that can close first, as gap / growth (a bound of how fast it closes)
+  const TypePair &tp = tpar[type_pair(type[ao], type[bo])];
+  const Vec3 ra0(x[ao]), ra1(x[ia]), rb0(x[bo]), rb1(x[jb]);
+  const double la = NCF::norm(ra1 - ra0), lbl = NCF::norm(rb1 - rb0);
+  const double ema = MAX(endext[ao], endext[ia]), emb = MAX(endext[bo], endext[jb]);
+  auto gap_of = [&](double ra, double rb) {
+    Vec3 pa0 = ra0, pa1 = ra1, pb0 = rb0, pb1 = rb1;
+    NCF::extend_segment(pa0, pa1, endext[ao] + ra, endext[ia] + ra);
+    NCF::extend_segment(pb0, pb1, endext[bo] + rb, endext[jb] + rb);
+    return std::sqrt(NCF::closest_points_segments(pa0, pa1, pb0, pb1).dist2) - tp.dc - lb.gap_slack;
   };
+  const double gap_ab = gap_of(0.0, tp.ramp), grow_ab = gap_growth(la, ema, lbl, emb + tp.ramp);
+  // (the one-way law, pair_style law oneway, only A against B)
+  const double gap_ba = oneway ? 0.0 : gap_of(tp.ramp, 0.0);
+  const double grow_ba = gap_growth(la, ema + tp.ramp, lbl, emb);
+  const bool ab_first = oneway || gap_ab / grow_ab <= gap_ba / grow_ba;
+  const double gap = ab_first ? gap_ab : gap_ba, grow = ab_first ? grow_ab : grow_ba;
+  // no node moves more than skin / 2 before the next build (checked in compute)
+  if (gap >= grow * skin) return;
+  const bool ext = endext[ao] != 0.0 || endext[ia] != 0.0 || endext[bo] != 0.0 || endext[jb] != 0.0;
+  plist.push_back({ao, ia, bo, jb, (unsigned) type_pair(type[ao], type[bo]), ext ? 1u : 0u,
+                   entry_reach(gap, grow)});
+}
 
-  // the boxes: every segment (owner node, partner) known here, and every interior node
+/* ----------------------------------------------------------------------
+   the boxes: every segment (owner node, partner) known here, and every interior node
+------------------------------------------------------------------------- */
+
+void PairNCFContact::fill_grids(const ListBounds &lb)
+{
+  const int nall = atom->nlocal + atom->nghost;
+  double **x = atom->x;
+  const tagint *tag = atom->tag;
+  double **cnb = atom->darray[idx_cnb];
+  const double hm = lb.hm, hcap = lb.hcap;
   gseg.clear();
   gext.clear();
   gcap.clear();
-  const double hcap = (diam_max + skin) * (1.0 + 1e-9) + slack;
   const double hcapv[3] = {hcap, hcap, hcap};
   for (int k = 0; k < nall; k++) {
     for (int sl = 0; sl < 2; sl++) {
@@ -235,10 +268,21 @@ void PairNCFContact::build_lists()
   gext.bin();
   gcap.bin();
   gcand.resize(MAX(MAX(gseg.cx.size(), gext.cx.size()), gcap.cx.size()));
+}
 
-  // the owned segments in the order of their owner nodes (LAMMPS sorts them spatially): the
-  // lists come out in that order, so that the positions, forces and history rows of a step are
-  // visited nearly in memory order (store_history relies on it)
+/* ----------------------------------------------------------------------
+   The pair list and the node caps of every owned segment, in the order of their owner nodes
+   (LAMMPS sorts them spatially): the lists come out in that order, so that the positions, forces
+   and history rows of a step are visited nearly in memory order (store_history relies on it);
+   each node's work estimate
+------------------------------------------------------------------------- */
+
+void PairNCFContact::search_owned_segments(const ListBounds &lb)
+{
+  const int nlocal = atom->nlocal;
+  double **x = atom->x;
+  const tagint *tag = atom->tag;
+  const double hm = lb.hm;
   pfirst.resize(nlocal + 1);
   double *work_est = idx_work >= 0 ? atom->dvector[idx_work] : nullptr;
   for (int ao = 0; ao < nlocal; ao++) {
@@ -278,40 +322,10 @@ void PairNCFContact::build_lists()
           const double ex = ca[0] - gx[n], ey = ca[1] - gy[n], ez = ca[2] - gz[n];
           const double lim = ra + gr[n];
           if (ex * ex + ey * ey + ez * ez > lim * lim) continue;
-          add_pair(ao, ia, g.i0[n], g.i1[n]);
+          consider_pair(lb, ao, ia, g.i0[n], g.i1[n]);
         }
       }
-
-      // node caps: interior nodes of other chains (or far along this one) near segment A
-      {
-        const BoxGrid &g = gcap;
-        int *cand = gcand.data();
-        // the node within D + skin of A's bounding box first (most candidates are not)
-        const int nc = g.scan(
-            ca, exa,
-            [](const BoxGrid::Filter &) {
-              return true;
-            },
-            cand);
-        const Vec3 a0(x[ao]), a1(x[ia]);
-        for (int c = 0; c < nc; c++) {
-          const int n = cand[c];
-          const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
-          if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
-          const int k = g.i0[n];
-          const double dcap = 0.5 * (table.diameter(type[ao]) + table.diameter(type[k])) + skin;
-          const double dist2 = NCF::point_segment_dist2(a0, a1, Vec3(x[k]));
-          if (dist2 >= dcap * dcap) continue;
-          const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
-          if (kp < 0 || kq < 0)
-            error->one(FLERR,
-                       "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
-                       "present on this rank; communication cutoff too short",
-                       tag[k], tag[ao], tag[ia]);
-          const int tpk = type_pair(type[ao], type[k]);
-          clist.push_back({ao, ia, kp, k, kq, tpk, std::sqrt(dist2) - tpar[tpk].dc - gap_slack});
-        }
-      }
+      search_caps(lb, ao, ia, ca, exa);
     }
     // the node's share of this rank's work until the next build (fix balance ... weight var)
     if (work_est) {
@@ -323,10 +337,58 @@ void PairNCFContact::build_lists()
     }
   }
   pfirst[nlocal] = (int) plist.size();
-  if (use_history) load_history();
+}
 
-  // the ghosts that a list entry or cap refers to (the others, beyond the reach of any, need no
-  // node row)
+/* ----------------------------------------------------------------------
+   node caps: interior nodes of other chains (or far along this one) near segment A = ao-ia (box
+   centre ca, half extents exa), the node within D + skin of A's bounding box first (most
+   candidates are not)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::search_caps(const ListBounds &lb, int ao, int ia, const double *ca,
+                                 const double *exa)
+{
+  double **x = atom->x;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const tagint ta = tag[ao], tpa = tag[ia];
+  const BoxGrid &g = gcap;
+  int *cand = gcand.data();
+  const int nc = g.scan(
+      ca, exa,
+      [](const BoxGrid::Filter &) {
+        return true;
+      },
+      cand);
+  const Vec3 a0(x[ao]), a1(x[ia]);
+  for (int c = 0; c < nc; c++) {
+    const int n = cand[c];
+    const tagint tn = g.t0[n], tp = g.t1[n], tq = g.t2[n];
+    if (tn == ta || tn == tpa || tp == ta || tp == tpa || tq == ta || tq == tpa) continue;
+    const int k = g.i0[n];
+    const double dcap = 0.5 * (table.diameter(type[ao]) + table.diameter(type[k])) + lb.skin;
+    const double dist2 = NCF::point_segment_dist2(a0, a1, Vec3(x[k]));
+    if (dist2 >= dcap * dcap) continue;
+    const int kp = nbr[2 * k], kq = nbr[2 * k + 1];
+    if (kp < 0 || kq < 0)
+      error->one(FLERR,
+                 "pair ncf/contact: a chain neighbour of node {} (near segment {}-{}) is not "
+                 "present on this rank; communication cutoff too short",
+                 tag[k], tag[ao], tag[ia]);
+    const int tpk = type_pair(type[ao], type[k]);
+    clist.push_back({ao, ia, kp, k, kq, tpk, std::sqrt(dist2) - tpar[tpk].dc - lb.gap_slack});
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the ghosts that a list entry or cap refers to (the others, beyond the reach of any, need no
+   node row)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::mark_used_ghosts()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
   std::vector<char> used(nall - nlocal, 0);
   auto mark = [&](int k) {
     if (k >= nlocal) used[k - nlocal] = 1;
@@ -345,14 +407,22 @@ void PairNCFContact::build_lists()
   ghosts_used.clear();
   for (int k = nlocal; k < nall; k++)
     if (used[k - nlocal]) ghosts_used.push_back(k);
+}
 
-  // The segments at free chain ends enter the law extended (end caps): the free end k by
-  // endext[k] along its segment. In the pair list entries such a node is replaced by a virtual
-  // node (index nall + v), whose row holds the extended end (its position and velocity, from
-  // those of k and its chain neighbour; compute) and which collects the contact forces on it,
-  // mapped back onto k and the neighbour at the end of the step (the chain rule). So the lanes
-  // of the batched law need no extension and no mapping back of their own. (Its displacement
-  // bound is that of k: the gaps and growth bounds of the list already count the extension.)
+/* ----------------------------------------------------------------------
+   The segments at free chain ends enter the law extended (end caps): the free end k by endext[k]
+   along its segment. In the pair list entries such a node is replaced by a virtual node (index
+   nall + v), whose row holds the extended end (its position and velocity, from those of k and
+   its chain neighbour; compute) and which collects the contact forces on it, mapped back onto k
+   and the neighbour at the end of the step (the chain rule). So the lanes of the batched law need
+   no extension and no mapping back of their own. (Its displacement bound is that of k: the gaps
+   and growth bounds of the list already count the extension.)
+------------------------------------------------------------------------- */
+
+void PairNCFContact::make_virtual_ends()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
   nall_build = nall;
   vreal.clear();
   vnbr.clear();
