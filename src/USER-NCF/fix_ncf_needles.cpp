@@ -58,6 +58,26 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
   energy_global_flag = 1;
   restart_global = 1;
 
+  parse_args(narg, arg);
+  set_needle_shape();
+  if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
+  NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
+  check_needle_layout();
+  size_array_rows = (int) nx.size();
+  fneedle.assign(3 * nx.size(), 0.0);
+  clock.start(update);
+  update_tip();
+}
+
+FixNCFNeedles::~FixNCFNeedles() = default;
+
+/* ----------------------------------------------------------------------
+   the arguments: the keywords, the ones required, the chain diameters (from the pair unless
+   given)
+------------------------------------------------------------------------- */
+
+void FixNCFNeedles::parse_args(int narg, char **arg)
+{
   chain_d.assign(atom->ntypes + 1, 0.0);
   const std::string W = "fix ncf/needles";
   auto number = [&](int i, const char *key) {
@@ -135,6 +155,14 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
     MPI_Allreduce(mine.data(), present.data(), atom->ntypes + 1, MPI_INT, MPI_MAX, world);
     NCF_LMP::pair_diameters(lmp, W, "chain", chain_given, chain_d, &present);
   }
+}
+
+/* ----------------------------------------------------------------------
+   tip and length (defaults: the radius and the box height) and the reach of the needles' points
+------------------------------------------------------------------------- */
+
+void FixNCFNeedles::set_needle_shape()
+{
   const bool tip_given = tip >= 0.0, length_given = length >= 0.0;
   if (tip < 0.0) tip = radius;
   // the largest z margin of a segment (see post_force): its contact radius rc plus the height of
@@ -156,9 +184,14 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                "fix ncf/needles: length {} must be at least {} times tip {} (a point at each end "
                "and a shaft between)",
                length, NCF::needle_min_length(1.0), tip);
-  if (!atom->molecular) error->all(FLERR, "fix ncf/needles needs an atom style with bonds");
+}
 
-  NCF_LMP::wrap_needles(lmp, "fix ncf/needles", nx, ny);
+/* ----------------------------------------------------------------------
+   the needles' positions: none listed twice, none overlapping another or its own periodic image
+------------------------------------------------------------------------- */
+
+void FixNCFNeedles::check_needle_layout()
+{
   // a needle listed twice (a needle file given twice, 1 000 needles on one point) would act twice
   // on every chain it touches, two that overlap would press the chains between them from both
   // sides at once; in a periodic direction a needle must also clear its own image
@@ -200,13 +233,7 @@ FixNCFNeedles::FixNCFNeedles(LAMMPS *lmp, int narg, char **arg) :
                        : "",
                    2.0 * radius);
     }
-  size_array_rows = (int) nx.size();
-  fneedle.assign(3 * nx.size(), 0.0);
-  clock.start(update);
-  update_tip();
 }
-
-FixNCFNeedles::~FixNCFNeedles() = default;
 
 int FixNCFNeedles::setmask()
 {

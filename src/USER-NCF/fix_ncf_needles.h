@@ -40,6 +40,10 @@ class FixNCFNeedles : public Fix {
   int image(int *&, double **&) override;
 
  protected:
+  // the constructor's steps
+  void parse_args(int narg, char **arg);
+  void set_needle_shape();
+  void check_needle_layout();
   void check_time_step();
 
   std::vector<double> nx, ny;    // needle axes

@@ -277,6 +277,37 @@ void FixNCFPBC::parse(int narg, char **arg)
 
 void FixNCFPBC::capture_reference()
 {
+  const std::vector<double> all = gather_end_nodes();
+  const int nend = (int) all.size() / 5;
+  std::vector<int> order(nend);
+  // sort by tag so that every rank builds the same list whatever the decomposition
+  for (int k = 0; k < nend; k++) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return all[5 * a] < all[5 * b];
+  });
+
+  for (int k = 0; k < 6; k++) href[k] = domain->h[k];
+  for (int d = 0; d < 3; d++) loref[d] = domain->boxlo[d];
+  nodes.clear();
+  group_pair.clear();
+  ngroups = 0;
+  for (int p = 0; p < 2; p++)
+    if (pair_on[p]) group_face_pair(p, all, order);
+  if (nodes.empty())
+    error->all(FLERR,
+               "fix ncf/pbc: no end node of group {} lies on a periodic face (face codes "
+               "of i_{} are all 0)",
+               group->names[igroup], endface_name);
+  finish_groups();
+}
+
+/* ----------------------------------------------------------------------
+   the end nodes of the group on the constrained faces, of all ranks: per node its tag, face code
+   and unwrapped position (5 values), in the order of the ranks
+------------------------------------------------------------------------- */
+
+std::vector<double> FixNCFPBC::gather_end_nodes()
+{
   const int nlocal = atom->nlocal;
   int *mask = atom->mask;
   int *face = nullptr;
@@ -327,107 +358,97 @@ void FixNCFPBC::capture_reference()
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
                  world);
 
-  // sort by tag so that every rank builds the same list whatever the decomposition
-  const int nend = (int) all.size() / 5;
-  std::vector<int> order(nend);
-  for (int k = 0; k < nend; k++) order[k] = k;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return all[5 * a] < all[5 * b];
-  });
+  return all;
+}
 
-  for (int k = 0; k < 6; k++) href[k] = domain->h[k];
-  for (int d = 0; d < 3; d++) loref[d] = domain->boxlo[d];
-  nodes.clear();
-  group_pair.clear();
-  ngroups = 0;
-  for (int p = 0; p < 2; p++) {
-    if (!pair_on[p]) continue;
-    std::vector<NCF::FaceNode> fn;
-    std::vector<int> which;
-    double vlo = 1e300, vhi = -1e300;
-    int nlow = 0, nup = 0;
-    for (int k : order) {
-      const int code = (int) all[5 * k + 1];
-      if ((code - 1) / 2 != p) continue;
-      NCF::FaceNode f;
-      f.side = (code % 2 == 1) ? -1 : 1;
-      // in-face coordinates: u along the other periodic direction, v = z
-      f.u = all[5 * k + 2 + (1 - p)] - domain->boxlo[1 - p];
-      f.v = all[5 * k + 4];
-      vlo = std::min(vlo, f.v);
-      vhi = std::max(vhi, f.v);
-      (f.side < 0 ? nlow : nup)++;
-      fn.push_back(f);
-      which.push_back(k);
-    }
-    if (fn.empty() && faces_auto) {
-      // faces auto: a face pair without end nodes (all chains cross the other way) is not tied
-      pair_on[p] = 0;
-      continue;
-    }
-    if (fn.empty())
-      error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on the {} faces",
-                 group->names[igroup], p ? "y" : "x");
-    const double lu = domain->prd[1 - p];
-    NCF::FaceMesh mesh = NCF::auto_face_mesh(fn, lu);
-    if (user_cells[p][0]) {
-      // a mesh finer than 100 cells per end node only merges empty cells away, and an absurd
-      // one would exhaust the memory before saying so
-      const double cells = (double) user_cells[p][0] * user_cells[p][1];
-      if (cells > 100.0 * (double) fn.size())
-        error->all(FLERR,
-                   "fix ncf/pbc: {}cells {} {} gives {:.3g} cells for the {} end nodes on the {} "
-                   "faces; at most 100 cells per end node",
-                   p ? "y" : "x", user_cells[p][0], user_cells[p][1], cells, fn.size(),
-                   p ? "y" : "x");
-      mesh = NCF::FaceMesh();
-      mesh.lu = lu;
-      mesh.vlo = vlo;
-      mesh.vhi = vhi;
-      mesh.nu = user_cells[p][0];
-      mesh.nv = user_cells[p][1];
-    }
-    mesh_cells[p][0] = mesh.nu;
-    mesh_cells[p][1] = mesh.nv;
-    int ng = 0;
-    std::vector<int> grp;
-    try {
-      grp = NCF::face_groups(mesh, fn, ng);
-    } catch (NCF::InputError &e) {
-      error->all(FLERR, "fix ncf/pbc: {} faces: {}", p ? "y" : "x", e.what());
-    }
-    auto w = NCF::face_weights(fn, grp, ng);
-    int nonempty = 0;
-    {
-      std::vector<int> seen(mesh.nu * mesh.nv, 0);
-      for (auto &f : fn) seen[mesh.cell_of(f.u, f.v)] = 1;
-      for (int s : seen) nonempty += s;
-    }
-    nmerged[p] = nonempty - ng;
-    for (std::size_t m = 0; m < fn.size(); m++) {
-      const int k = which[m];
-      EndNode e;
-      e.tag = (tagint) all[5 * k];
-      e.pair = p;
-      e.group = ngroups + grp[m];
-      e.weight = w[m];
-      for (int d = 0; d < 3; d++) e.xref[d] = all[5 * k + 2 + d];
-      nodes.push_back(e);
-    }
-    for (int g = 0; g < ng; g++) group_pair.push_back(p);
-    ngroups += ng;
-    if (comm->me == 0)
-      utils::logmesg(lmp,
-                     "fix ncf/pbc: {} faces: {} lower + {} upper end nodes, mesh {} x {} cells, "
-                     "{} constraint groups ({} non-empty cells merged away)\n",
-                     p ? "y" : "x", nlow, nup, mesh.nu, mesh.nv, ng, nmerged[p]);
+/* ----------------------------------------------------------------------
+   the constraint groups of face pair p (x faces 0, y faces 1): the end nodes on its faces (all:
+   the records of gather_end_nodes, order: by tag) meshed into cells, the cells grouped, the
+   weights of the nodes; appended to nodes and group_pair
+------------------------------------------------------------------------- */
+
+void FixNCFPBC::group_face_pair(int p, const std::vector<double> &all,
+                                const std::vector<int> &order)
+{
+  std::vector<NCF::FaceNode> fn;
+  std::vector<int> which;
+  double vlo = 1e300, vhi = -1e300;
+  int nlow = 0, nup = 0;
+  for (int k : order) {
+    const int code = (int) all[5 * k + 1];
+    if ((code - 1) / 2 != p) continue;
+    NCF::FaceNode f;
+    f.side = (code % 2 == 1) ? -1 : 1;
+    // in-face coordinates: u along the other periodic direction, v = z
+    f.u = all[5 * k + 2 + (1 - p)] - domain->boxlo[1 - p];
+    f.v = all[5 * k + 4];
+    vlo = std::min(vlo, f.v);
+    vhi = std::max(vhi, f.v);
+    (f.side < 0 ? nlow : nup)++;
+    fn.push_back(f);
+    which.push_back(k);
   }
-  if (nodes.empty())
-    error->all(FLERR,
-               "fix ncf/pbc: no end node of group {} lies on a periodic face (face codes "
-               "of i_{} are all 0)",
-               group->names[igroup], endface_name);
-  finish_groups();
+  if (fn.empty() && faces_auto) {
+    // faces auto: a face pair without end nodes (all chains cross the other way) is not tied
+    pair_on[p] = 0;
+    return;
+  }
+  if (fn.empty())
+    error->all(FLERR, "fix ncf/pbc: no end node of group {} lies on the {} faces",
+               group->names[igroup], p ? "y" : "x");
+  const double lu = domain->prd[1 - p];
+  NCF::FaceMesh mesh = NCF::auto_face_mesh(fn, lu);
+  if (user_cells[p][0]) {
+    // a mesh finer than 100 cells per end node only merges empty cells away, and an absurd
+    // one would exhaust the memory before saying so
+    const double cells = (double) user_cells[p][0] * user_cells[p][1];
+    if (cells > 100.0 * (double) fn.size())
+      error->all(FLERR,
+                 "fix ncf/pbc: {}cells {} {} gives {:.3g} cells for the {} end nodes on the {} "
+                 "faces; at most 100 cells per end node",
+                 p ? "y" : "x", user_cells[p][0], user_cells[p][1], cells, fn.size(),
+                 p ? "y" : "x");
+    mesh = NCF::FaceMesh();
+    mesh.lu = lu;
+    mesh.vlo = vlo;
+    mesh.vhi = vhi;
+    mesh.nu = user_cells[p][0];
+    mesh.nv = user_cells[p][1];
+  }
+  mesh_cells[p][0] = mesh.nu;
+  mesh_cells[p][1] = mesh.nv;
+  int ng = 0;
+  std::vector<int> grp;
+  try {
+    grp = NCF::face_groups(mesh, fn, ng);
+  } catch (NCF::InputError &e) {
+    error->all(FLERR, "fix ncf/pbc: {} faces: {}", p ? "y" : "x", e.what());
+  }
+  auto w = NCF::face_weights(fn, grp, ng);
+  int nonempty = 0;
+  {
+    std::vector<int> seen(mesh.nu * mesh.nv, 0);
+    for (auto &f : fn) seen[mesh.cell_of(f.u, f.v)] = 1;
+    for (int s : seen) nonempty += s;
+  }
+  nmerged[p] = nonempty - ng;
+  for (std::size_t m = 0; m < fn.size(); m++) {
+    const int k = which[m];
+    EndNode e;
+    e.tag = (tagint) all[5 * k];
+    e.pair = p;
+    e.group = ngroups + grp[m];
+    e.weight = w[m];
+    for (int d = 0; d < 3; d++) e.xref[d] = all[5 * k + 2 + d];
+    nodes.push_back(e);
+  }
+  for (int g = 0; g < ng; g++) group_pair.push_back(p);
+  ngroups += ng;
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "fix ncf/pbc: {} faces: {} lower + {} upper end nodes, mesh {} x {} cells, "
+                   "{} constraint groups ({} non-empty cells merged away)\n",
+                   p ? "y" : "x", nlow, nup, mesh.nu, mesh.nv, ng, nmerged[p]);
 }
 
 /* ----------------------------------------------------------------------

@@ -91,6 +91,8 @@ class FixNCFPBC : public Fix {
 
   void parse(int, char **);
   void capture_reference();
+  std::vector<double> gather_end_nodes();
+  void group_face_pair(int p, const std::vector<double> &all, const std::vector<int> &order);
   void take_state_of(const std::string &other_id);
   void finish_groups();
   double hold_residual(const EndNode &e, const double *xu, const double *lo, const double *prd,
