@@ -17,6 +17,32 @@ for stage in compact pierce stitch pretension release; do
 done
 /usr/bin/python3 -B "$here/report_manufacturing.py" small --dir "$out" --out "$out/report.md"
 
+# the holds that end when quasi-static (-var settle yes, fix ncf/settle): stages 3-5 from the same
+# pierced mat with the report's tolerances (kinetic energy 1e-2 of the stage's energy, drifts of
+# 1 %), checked every 50 steps over 4 checks; every hold prints its SETTLE line, none runs past its
+# cap, one that settled ended before it, and the release's relaxation (cap 20 000 steps; 3 000
+# steps leave KE at 0.016 of the energy stored) settles
+mkdir -p "$out/settle"
+cp "$out"/small.{summary,settings.lmp,yarn.lmp,yarn.data,needles,plates.lmp,pierce.restart} "$out/settle/"
+NCF_NP=1 NCF_STAGES=3-5 \
+  NCF_LMP_ARGS="-var settle yes -var settle_ke 1e-2 -var settle_steady 1e-2 -var settle_every 50 -var settle_window 4 -var hold 1000 -var ramp 1000 -var relax 20000" \
+  bash "$here/run.sh" "$out/settle" "$here/small.card" > "$out/settle/run.out"
+/usr/bin/python3 -B - "$out/settle" <<'PY'
+import re, sys
+d = sys.argv[1]
+ok = True
+for stage, run in (("stitch", "hold"), ("pretension", "hold"), ("release", "relax")):
+    text = open(f"{d}/small.{stage}.log").read()
+    m = re.findall(rf"^SETTLE in\.{stage} {run} cap (\d+) steps (\d+) settled (\d)$", text, re.M)
+    if len(m) != 1:
+        print(f"FAIL: {stage}: no SETTLE line"); ok = False; continue
+    cap, steps, settled = map(int, m[0])
+    good = steps <= cap and (steps < cap if settled else steps == cap) and (settled or stage != "release")
+    ok &= good
+    print(f"settle {stage} {run}: {steps} of {cap} steps, settled {settled}: {'ok' if good else 'FAIL'}")
+sys.exit(0 if ok else 1)
+PY
+
 # 1, 2 and 4 MPI ranks through stages 2-4 from the same compacted mat, a fixed and small number
 # of steps per stage (fast needles, short holds and ramp): the same trajectory up to round-off and
 # its growth. The sums of forces are done in another order on each rank count, and contacts with
