@@ -147,7 +147,12 @@ void FixNCFSettle::new_run()
   run_start = update->firststep;
   run_end = update->laststep;
   // (the variables may invoke computes: ask for them on the next check step)
-  modify->addstep_compute_all((update->ntimestep / every) * every + every);
+  modify->addstep_compute_all(next_check());
+}
+
+bigint FixNCFSettle::next_check() const
+{
+  return (update->ntimestep / every) * every + every;
 }
 
 double FixNCFSettle::kinetic_energy() const
@@ -212,7 +217,7 @@ void FixNCFSettle::end_of_step()
     } else
       values[2 * k] = input->variable->compute_equal(in.ivar);
   }
-  modify->addstep_compute(step + every);
+  modify->addstep_compute(next_check());
   MPI_Bcast(values.data(), (int) values.size(), MPI_DOUBLE, 0, world);
   std::vector<NCF::Settle::Sample> samples(inputs.size());
   for (size_t k = 0; k < inputs.size(); k++) samples[k] = {values[2 * k], values[2 * k + 1]};
@@ -257,7 +262,7 @@ int FixNCFSettle::modify_param(int narg, char **arg)
   active = NCF_LMP::logical(lmp, "fix_modify ncf/settle", "active", arg[1]);
   settle.reset();
   // (the computes of the first check: asked for now, as the run may start with `pre no`)
-  if (active) modify->addstep_compute_all((update->ntimestep / every) * every + every);
+  if (active) modify->addstep_compute_all(next_check());
   return 2;
 }
 

@@ -54,6 +54,7 @@ class FixNCFSettle : public Fix {
 
   void parse(int narg, char **arg);
   void new_run();
+  bigint next_check() const;    // the first check step after this one
   double kinetic_energy() const;
   double largest_force() const;
 };

@@ -92,8 +92,7 @@ TEST(FixSettle, EndsTheRunWhenQuasiStatic)
               testing::ContainsRegex("\n +" + std::to_string((long) steps) + " +[-0-9]"));
   // and it is quasi-static there: KE within the tolerance of the initial kinetic energy
   EXPECT_LE(l.value("ke"), 1e-6 * l.value("v_ekin0") * 1.01);
-  // the next run is not stopped by the timer of the last one (here: the criterion holds at once
-  // and ends it again after its first check)
+  // the next run, without checks, is not stopped by the timer that ended the last one
   l.cmd("fix_modify s active no");
   l.cmd("run 50");
   EXPECT_EQ(l.value("step"), steps + 50);
